@@ -1,0 +1,151 @@
+#include "shared/io/calibration_yaml.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <opencv2/core/eigen.hpp>
+
+#include "shared/util/check.h"
+
+namespace silnet {
+namespace {
+
+constexpr int kCalibrationVersion = 1;
+
+// Reads a matrix field as a flat vector of doubles; throws InputError if it is missing,
+// not a matrix, has non-finite entries or has a size not in `allowed_sizes`.
+std::vector<double> ReadMatrixEntries(const cv::FileNode& node, const char* name,
+                                      const std::string& where,
+                                      std::initializer_list<size_t> allowed_sizes) {
+  const cv::FileNode field = node[name];
+  if (field.empty()) throw InputError(where + ": missing '" + name + "'");
+  cv::Mat mat;
+  try {
+    field >> mat;
+  } catch (const cv::Exception& e) {
+    throw InputError(where + ": '" + name + "' is not a matrix (" + e.err + ")");
+  }
+  if (std::find(allowed_sizes.begin(), allowed_sizes.end(), mat.total()) == allowed_sizes.end()) {
+    throw InputError(where + ": '" + name + "' has " + std::to_string(mat.total()) +
+                     " entries, expected " + std::to_string(*allowed_sizes.begin()));
+  }
+  mat.convertTo(mat, CV_64F);
+  std::vector<double> values(mat.begin<double>(), mat.end<double>());
+  for (double v : values) {
+    if (!std::isfinite(v)) throw InputError(where + ": '" + name + "' has non-finite entries");
+  }
+  return values;
+}
+
+template <int Rows, int Cols>
+Eigen::Matrix<double, Rows, Cols> ReadMatrix(const cv::FileNode& node, const char* name,
+                                             const std::string& where) {
+  const std::vector<double> values = ReadMatrixEntries(node, name, where, {Rows * Cols});
+  using Stored = Eigen::Matrix<double, Rows, Cols, Cols == 1 ? Eigen::ColMajor : Eigen::RowMajor>;
+  return Eigen::Map<const Stored>(values.data());
+}
+
+int ReadPositiveInt(const cv::FileNode& node, const char* name, const std::string& where) {
+  const cv::FileNode field = node[name];
+  if (field.empty() || !field.isInt()) {
+    throw InputError(where + ": missing integer '" + name + "'");
+  }
+  const int value = static_cast<int>(field);
+  if (value <= 0) throw InputError(where + ": '" + name + "' must be positive");
+  return value;
+}
+
+double ReadReal(const cv::FileNode& node, const char* name, double fallback) {
+  const cv::FileNode field = node[name];
+  if (field.empty()) return fallback;
+  return static_cast<double>(field);
+}
+
+template <class Derived>
+cv::Mat ToMat(const Eigen::MatrixBase<Derived>& m) {
+  cv::Mat out;
+  cv::eigen2cv(Eigen::MatrixXd(m), out);
+  return out;
+}
+
+}  // namespace
+
+void WriteCameras(cv::FileStorage& storage, const std::vector<CameraModel>& cameras) {
+  storage << "cameras"
+          << "[";
+  for (const CameraModel& c : cameras) {
+    storage << "{";
+    storage << "id" << c.id << "image_width" << c.width << "image_height" << c.height;
+    storage << "fps" << c.fps << "time_offset" << c.time_offset;
+    storage << "K" << ToMat(c.K) << "dist" << ToMat(c.dist.transpose());
+    storage << "R" << ToMat(c.R) << "t" << ToMat(c.t);
+    storage << "}";
+  }
+  storage << "]";
+}
+
+std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::string& source) {
+  if (cameras.empty() || !cameras.isSeq()) {
+    throw InputError(source + ": no 'cameras' sequence");
+  }
+  std::vector<CameraModel> out;
+  int index = 0;
+  for (const cv::FileNode& node : cameras) {
+    std::string where = source + ": camera " + std::to_string(index++);
+    CameraModel c;
+    if (node["id"].empty() || !node["id"].isString()) throw InputError(where + ": missing 'id'");
+    c.id = static_cast<std::string>(node["id"]);
+    where += " ('" + c.id + "')";
+    c.width = ReadPositiveInt(node, "image_width", where);
+    c.height = ReadPositiveInt(node, "image_height", where);
+    c.K = ReadMatrix<3, 3>(node, "K", where);
+    const std::vector<double> dist = ReadMatrixEntries(node, "dist", where, {5, 4});
+    for (size_t k = 0; k < dist.size(); ++k)
+      c.dist[static_cast<Eigen::Index>(k)] = dist[k];
+    c.R = ReadMatrix<3, 3>(node, "R", where);
+    c.t = ReadMatrix<3, 1>(node, "t", where);
+    c.fps = ReadReal(node, "fps", 30.0);
+    c.time_offset = ReadReal(node, "time_offset", 0.0);
+    if (!(c.K(0, 0) > 0) || !(c.K(1, 1) > 0) || c.K(2, 2) != 1.0 || c.K(1, 0) != 0.0 ||
+        c.K(2, 0) != 0.0 || c.K(2, 1) != 0.0) {
+      throw InputError(where +
+                       ": K must be upper triangular with positive focal lengths and K(2,2) = 1");
+    }
+    if ((c.R * c.R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 ||
+        c.R.determinant() < 0) {
+      throw InputError(where + ": R is not a rotation matrix");
+    }
+    if (!(c.fps > 0)) throw InputError(where + ": fps must be positive");
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+cv::FileStorage OpenYamlForReading(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path)) throw InputError(path.string() + ": no such file");
+  try {
+    cv::FileStorage storage(path.string(), cv::FileStorage::READ);
+    if (!storage.isOpened()) throw InputError(path.string() + ": cannot open as YAML");
+    return storage;
+  } catch (const cv::Exception& e) {
+    throw InputError(path.string() + ": not valid YAML (" + e.err + ")");
+  }
+}
+
+void SaveCalibration(const std::filesystem::path& path, const std::vector<CameraModel>& cameras) {
+  cv::FileStorage storage(path.string(), cv::FileStorage::WRITE);
+  if (!storage.isOpened()) throw InputError(path.string() + ": cannot write");
+  storage << "silnet_calibration_version" << kCalibrationVersion;
+  WriteCameras(storage, cameras);
+}
+
+std::vector<CameraModel> LoadCalibration(const std::filesystem::path& path) {
+  cv::FileStorage storage = OpenYamlForReading(path);
+  try {
+    return ReadCameras(storage["cameras"], path.string());
+  } catch (const cv::Exception& e) {
+    throw InputError(path.string() + ": malformed (" + e.err + ")");
+  }
+}
+
+}  // namespace silnet

@@ -1,0 +1,32 @@
+#pragma once
+// Camera sets in OpenCV FileStorage YAML (DESIGN.md "Files"): a `cameras` sequence whose
+// entries hold id, image_width, image_height, K, dist, R, t (x_cam = R X + t), fps and
+// time_offset (frames). calibration.yaml and ground_truth.yaml share this block.
+
+#include <filesystem>
+#include <opencv2/core/persistence.hpp>
+#include <string>
+#include <vector>
+
+#include "shared/geometry/camera_model.h"
+
+namespace silnet {
+
+// Writes the `cameras` sequence into an open FileStorage.
+void WriteCameras(cv::FileStorage& storage, const std::vector<CameraModel>& cameras);
+
+// Reads a `cameras` sequence. Throws InputError naming `source` and the camera on a
+// missing field, a matrix of the wrong size, a non-rotation R or a non-positive focal length.
+std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::string& source);
+
+// Writes calibration.yaml (format version 1) with the given cameras.
+void SaveCalibration(const std::filesystem::path& path, const std::vector<CameraModel>& cameras);
+
+// Reads calibration.yaml (or any file with a `cameras` block, such as ground_truth.yaml).
+// Throws InputError for a missing, unreadable or malformed file.
+std::vector<CameraModel> LoadCalibration(const std::filesystem::path& path);
+
+// Opens a FileStorage for reading; throws InputError with the path and OpenCV's reason.
+cv::FileStorage OpenYamlForReading(const std::filesystem::path& path);
+
+}  // namespace silnet

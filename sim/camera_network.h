@@ -1,0 +1,48 @@
+#pragma once
+// Simulated camera networks: N cameras in a ring, dome or arc around the capture area,
+// each with its own intrinsics (focal length, principal point, optional radial distortion),
+// its own frame rate and its own sub-frame time offset.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "shared/geometry/camera_model.h"
+
+namespace silnet::sim {
+
+enum class RigLayout {
+  kRing,  // one ring at roughly head height
+  kDome,  // two or three rings at rising elevations
+  kArc,   // a 160-degree arc on one side
+};
+
+// Parses "ring", "dome" or "arc"; throws InputError otherwise.
+RigLayout ParseRigLayout(const std::string& name);
+std::string ToString(RigLayout layout);
+
+// Parameters of a simulated network.
+struct CameraNetworkOptions {
+  int cameras = 8;
+  RigLayout layout = RigLayout::kRing;
+  int width = 640;
+  int height = 480;
+  double radius = 4.5;               // metres from the centre of the capture area
+  double horizontal_fov_deg = 50.0;  // nominal field of view
+  double focal_spread = 0.08;        // relative spread of focal lengths (uniform +-)
+  double principal_spread = 0.02;    // principal point offset, fraction of the image size
+  double max_distortion = 0.0;       // |k1| up to this (k2 = -k1 / 4); 0 = no distortion
+  double fps = 30.0;                 // nominal frame rate
+  double fps_spread = 0.0;           // relative spread of frame rates (0 = all equal)
+  double max_offset = 15.0;          // time offsets uniform in [-max_offset, max_offset] frames
+  uint64_t seed = 1;
+};
+
+// Builds the cameras (ids cam00, cam01, ...). Throws InputError for impossible options
+// (fewer than 2 cameras, non-positive size, fov outside (10, 170) degrees, ...).
+std::vector<CameraModel> MakeCameraNetwork(const CameraNetworkOptions& options);
+
+// Camera id of index i ("cam00").
+std::string CameraId(int index);
+
+}  // namespace silnet::sim

@@ -1,0 +1,106 @@
+#include "sim/dataset_generator.h"
+
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <chrono>
+
+#include "shared/io/dataset_layout.h"
+#include "shared/io/png_writer.h"
+#include "shared/util/check.h"
+#include "shared/util/parallel_for.h"
+#include "sim/ground_truth.h"
+
+namespace silnet::sim {
+
+std::string SimulationOptions::Validate() const {
+  if (frames < 1 || frames > 1000000) return "frames must be between 1 and 1000000";
+  if (!write_masks && !write_frames) return "nothing to write: enable masks or frames";
+  if (scene.count < 1 || scene.count > 8) return "between 1 and 8 subjects";
+  if (!(scene.walk_radius >= 0.0 && scene.walk_radius < network.radius - 0.5)) {
+    return "walk radius must be non-negative and keep 0.5 m away from the cameras";
+  }
+  if (render.noise_sigma < 0.0 || render.noise_sigma > 40.0) return "noise must be 0..40 DN";
+  return {};
+}
+
+SceneOptions SceneForCameras(const SimulationOptions& options,
+                             const std::vector<CameraModel>& cameras) {
+  SceneOptions scene = options.scene;
+  double begin = std::numeric_limits<double>::infinity(), end = -begin;
+  for (const CameraModel& c : cameras) {
+    begin = std::min(begin, c.ExposureTime(-1));
+    end = std::max(end, c.ExposureTime(options.frames));
+  }
+  scene.time_begin = begin - 1.0;
+  scene.time_end = end + 1.0;
+  return scene;
+}
+
+SimulationSummary GenerateDataset(const SimulationOptions& options,
+                                  const std::filesystem::path& output, Progress* progress) {
+  if (const std::string reason = options.Validate(); !reason.empty()) throw InputError(reason);
+  const auto start = std::chrono::steady_clock::now();
+  std::error_code error;
+  if (std::filesystem::exists(output) && !std::filesystem::is_empty(output, error) &&
+      !options.overwrite) {
+    throw InputError(output.string() + " is not empty (use --force to write into it)");
+  }
+  SimulationSummary summary;
+  summary.cameras = MakeCameraNetwork(options.network);
+  summary.frames = options.frames;
+  const Scene scene(SceneForCameras(options, summary.cameras));
+  const DatasetLayout layout(output);
+  for (const CameraModel& c : summary.cameras) {
+    if (options.write_frames) std::filesystem::create_directories(layout.FramesDir(c.id));
+    if (options.write_masks) std::filesystem::create_directories(layout.MasksDir(c.id));
+  }
+
+  const int threads = options.threads;
+  const size_t camera_count = summary.cameras.size();
+  std::vector<std::unique_ptr<CameraRenderer>> renderers(camera_count);
+  ParallelFor(camera_count, threads, [&](size_t i) {
+    renderers[i] = std::make_unique<CameraRenderer>(summary.cameras[i], scene, options.render,
+                                                    static_cast<int>(i));
+  });
+
+  std::atomic<size_t> bytes{0}, images{0};
+  const size_t tasks = camera_count * static_cast<size_t>(options.frames);
+  // Frame-major order keeps all cameras progressing together.
+  ParallelFor(tasks, threads, [&](size_t task) {
+    if (progress != nullptr && progress->cancelled()) throw std::runtime_error("cancelled");
+    const size_t camera = task % camera_count;
+    const int frame = static_cast<int>(task / camera_count);
+    const CameraRenderer& renderer = *renderers[camera];
+    const CameraModel& c = renderer.camera();
+    cv::Mat mask, colour;
+    renderer.Render(c.ExposureTime(frame),
+                    MixSeed(options.render.seed, camera, static_cast<uint64_t>(frame)), &mask,
+                    options.write_frames ? &colour : nullptr);
+    if (options.write_masks) {
+      bytes += WritePngFast(layout.MaskPath(c.id, frame), mask);
+      ++images;
+    }
+    if (options.write_frames) {
+      bytes += WritePngFast(layout.FramePath(c.id, frame), colour);
+      ++images;
+    }
+    if (progress != nullptr) progress->Advance();
+  });
+
+  GroundTruthScene truth;
+  truth.subject = ToString(options.scene.subject);
+  truth.subjects = scene.subject_count();
+  truth.layout = ToString(options.network.layout);
+  truth.seed = options.scene.seed;
+  truth.reference_fps = options.network.fps;
+  truth.frames = options.frames;
+  WriteGroundTruth(layout.GroundTruthPath(), truth, summary.cameras, scene);
+  if (progress != nullptr) progress->Finish();
+  summary.images_written = images.load();
+  summary.bytes_written = bytes.load();
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace silnet::sim

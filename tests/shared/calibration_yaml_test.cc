@@ -1,0 +1,121 @@
+#include "shared/io/calibration_yaml.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <fstream>
+#include <map>
+
+#include "shared/util/check.h"
+#include "tests/support/temp_dir.h"
+
+namespace silnet {
+namespace {
+
+std::vector<CameraModel> TwoCameras() {
+  std::vector<CameraModel> cameras(2);
+  for (int i = 0; i < 2; ++i) {
+    CameraModel& c = cameras[static_cast<size_t>(i)];
+    c.id = "cam0" + std::to_string(i);
+    c.width = 640;
+    c.height = 480;
+    c.K << 512.25 + i, 0, 320.5, 0, 511.75, 239.125, 0, 0, 1;
+    c.dist << 0.05 * i, -0.01, 0.001, -0.002, 0.0;
+    c.R = Eigen::AngleAxisd(0.4 + i, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    c.t = Eigen::Vector3d(0.1, -0.2, 4.0 + i);
+    c.fps = 29.97;
+    c.time_offset = -3.5 + 7.25 * i;
+  }
+  return cameras;
+}
+
+void WriteText(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+TEST(CalibrationYaml, RoundTripsEveryField) {
+  testing::TempDir dir;
+  const auto cameras = TwoCameras();
+  SaveCalibration(dir / "calibration.yaml", cameras);
+  const auto loaded = LoadCalibration(dir / "calibration.yaml");
+  ASSERT_EQ(loaded.size(), cameras.size());
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    EXPECT_EQ(loaded[i].id, cameras[i].id);
+    EXPECT_EQ(loaded[i].width, 640);
+    EXPECT_EQ(loaded[i].height, 480);
+    EXPECT_LT((loaded[i].K - cameras[i].K).norm(), 1e-12);
+    EXPECT_LT((loaded[i].dist - cameras[i].dist).norm(), 1e-12);
+    EXPECT_LT((loaded[i].R - cameras[i].R).norm(), 1e-12);
+    EXPECT_LT((loaded[i].t - cameras[i].t).norm(), 1e-12);
+    EXPECT_DOUBLE_EQ(loaded[i].fps, 29.97);
+    EXPECT_DOUBLE_EQ(loaded[i].time_offset, cameras[i].time_offset);
+  }
+}
+
+// Expects LoadCalibration to throw InputError whose message contains `fragment`.
+void ExpectRejected(const std::filesystem::path& path, const std::string& fragment) {
+  try {
+    LoadCalibration(path);
+    FAIL() << "accepted " << path;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+TEST(CalibrationYaml, RejectsMissingAndMalformedFilesWithReasons) {
+  testing::TempDir dir;
+  ExpectRejected(dir / "absent.yaml", "no such file");
+  WriteText(dir / "garbage.yaml", "%YAML:1.0\n---\ncameras: [ {id: a, image_width: [1,2\n");
+  ExpectRejected(dir / "garbage.yaml", "garbage.yaml");
+  WriteText(dir / "empty.yaml", "%YAML:1.0\n---\nsomething: 1\n");
+  ExpectRejected(dir / "empty.yaml", "no 'cameras'");
+
+  // A valid camera, then one field broken at a time.
+  auto camera_file = [&](const std::string& field, const std::string& value) {
+    std::map<std::string, std::string> fields = {
+        {"id", "cam00"},
+        {"image_width", "640"},
+        {"image_height", "480"},
+        {"K",
+         "!!opencv-matrix { rows: 3, cols: 3, dt: d, data: [500, 0, 320, 0, 500, 240, 0, 0, 1] }"},
+        {"dist", "!!opencv-matrix { rows: 1, cols: 5, dt: d, data: [0, 0, 0, 0, 0] }"},
+        {"R", "!!opencv-matrix { rows: 3, cols: 3, dt: d, data: [1, 0, 0, 0, 1, 0, 0, 0, 1] }"},
+        {"t", "!!opencv-matrix { rows: 3, cols: 1, dt: d, data: [0, 0, 4] }"}};
+    if (value.empty()) {
+      fields.erase(field);
+    } else {
+      fields[field] = value;
+    }
+    std::string text = "%YAML:1.0\n---\ncameras:\n  - {";
+    for (const auto& [key, text_value] : fields)
+      text += " " + key + ": " + text_value + ",";
+    text.back() = ' ';
+    text += "}\n";
+    WriteText(dir / "camera.yaml", text);
+    return dir / "camera.yaml";
+  };
+  EXPECT_EQ(LoadCalibration(camera_file("id", "cam00")).size(), 1u);
+  ExpectRejected(camera_file("image_width", "-640"), "image_width");
+  ExpectRejected(camera_file("id", ""), "missing 'id'");
+  ExpectRejected(
+      camera_file("K", "!!opencv-matrix { rows: 2, cols: 3, dt: d, data: [1, 0, 0, 0, 1, 0] }"),
+      "'K' has 6 entries");
+  ExpectRejected(
+      camera_file(
+          "K",
+          "!!opencv-matrix { rows: 3, cols: 3, dt: d, data: [0, 0, 320, 0, 500, 240, 0, 0, 1] }"),
+      "positive focal");
+  ExpectRejected(camera_file("t", ""), "missing 't'");
+  ExpectRejected(camera_file("R", "[1, 2, 3]"), "'R'");
+}
+
+TEST(CalibrationYaml, RejectsANonRotation) {
+  testing::TempDir dir;
+  auto cameras = TwoCameras();
+  cameras[1].R(0, 0) += 0.1;
+  SaveCalibration(dir / "c.yaml", cameras);
+  ExpectRejected(dir / "c.yaml", "not a rotation");
+}
+
+}  // namespace
+}  // namespace silnet
