@@ -58,10 +58,14 @@ SimulationSummary GenerateDataset(const SimulationOptions& options,
 
   const int threads = options.threads;
   const size_t camera_count = summary.cameras.size();
+  const auto noise = std::make_shared<const SensorNoise>(
+      options.render.noise_sigma,
+      static_cast<size_t>(options.network.width) * static_cast<size_t>(options.network.height) * 3,
+      MixSeed(options.render.seed, 0x5E5u));
   std::vector<std::unique_ptr<CameraRenderer>> renderers(camera_count);
   ParallelFor(camera_count, threads, [&](size_t i) {
     renderers[i] = std::make_unique<CameraRenderer>(summary.cameras[i], scene, options.render,
-                                                    static_cast<int>(i));
+                                                    static_cast<int>(i), noise);
   });
 
   std::atomic<size_t> bytes{0}, images{0};

@@ -30,8 +30,9 @@ uint8_t ToByte(float value) {
 }  // namespace
 
 CameraRenderer::CameraRenderer(const CameraModel& camera, const Scene& scene,
-                               const RenderSettings& settings, int camera_index)
-    : camera_(camera), scene_(&scene), settings_(settings) {
+                               const RenderSettings& settings, int camera_index,
+                               std::shared_ptr<const SensorNoise> noise)
+    : camera_(camera), scene_(&scene), settings_(settings), noise_(std::move(noise)) {
   SILNET_CHECK(camera.width > 0 && camera.height > 0);
   std::mt19937_64 rng(MixSeed(settings.seed, static_cast<uint64_t>(camera_index), 0xCA3u));
   exposure_ = std::uniform_real_distribution<double>(0.9, 1.1)(rng);
@@ -56,9 +57,12 @@ CameraRenderer::CameraRenderer(const CameraModel& camera, const Scene& scene,
       fl[x] = hit.surface == RoomSurface::kFloor ? 1 : 0;
     }
   }
-  noise_ = std::make_unique<SensorNoise>(
-      settings.noise_sigma, pixels * 3,
-      MixSeed(settings.seed, static_cast<uint64_t>(camera_index), 0x5E5u));
+  const size_t values = pixels * 3;
+  if (noise_ == nullptr || noise_->values_per_image() != values) {
+    noise_ = std::make_shared<SensorNoise>(
+        settings.noise_sigma, values,
+        MixSeed(settings.seed, static_cast<uint64_t>(camera_index), 0x5E5u));
+  }
 }
 
 PixelBox CameraRenderer::ProjectedBox(const Eigen::Vector3d& c, double r) const {

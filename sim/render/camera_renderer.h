@@ -32,8 +32,10 @@ struct PixelBox {
 // room's appearance; Render is const and safe to call from several threads.
 class CameraRenderer {
  public:
+  // `noise` may be shared between renderers of equal image size; null draws a table for
+  // this camera.
   CameraRenderer(const CameraModel& camera, const Scene& scene, const RenderSettings& settings,
-                 int camera_index);
+                 int camera_index, std::shared_ptr<const SensorNoise> noise = nullptr);
 
   // Renders the scene at reference time `time`. `mask` receives CV_8UC1 0/255, `colour`
   // CV_8UC3 BGR; either may be null. `image_seed` selects the sensor noise.
@@ -60,7 +62,7 @@ class CameraRenderer {
   std::vector<Eigen::Vector3f> rays_;  // unit directions, camera frame, row-major
   cv::Mat background_;                 // CV_32FC3 RGB radiance of the lit room
   cv::Mat floor_;                      // CV_8U, 1 where the room's floor is seen
-  std::unique_ptr<SensorNoise> noise_;
+  std::shared_ptr<const SensorNoise> noise_;
 };
 
 }  // namespace silnet::sim

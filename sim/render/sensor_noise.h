@@ -18,6 +18,7 @@ class SensorNoise {
   // gives the same samples.
   const int8_t* ForImage(uint64_t image_seed) const;
   double sigma() const { return sigma_; }
+  std::size_t values_per_image() const { return values_per_image_; }
 
  private:
   double sigma_;
