@@ -3,10 +3,9 @@
 // replayed simulated cameras — behind one interface, so the node pipeline and its tests do
 // not care where frames come from.
 
-#include <opencv2/core/mat.hpp>
-
 #include <chrono>
 #include <cstdint>
+#include <opencv2/core/mat.hpp>
 #include <string>
 
 #include "shared/util/check.h"
@@ -21,9 +20,9 @@ class CaptureError : public InputError {
 
 // One captured image.
 struct CapturedFrame {
-  cv::Mat image;                 // CV_8UC3 BGR from colour sources, CV_8UC1 from mask sources
-  uint64_t frame_index = 0;      // grows by one per frame period; a jump means lost frames
-  int64_t capture_time_ns = 0;   // CLOCK_REALTIME at exposure (driver timestamp if known)
+  cv::Mat image;                // CV_8UC3 BGR from colour sources, CV_8UC1 from mask sources
+  uint64_t frame_index = 0;     // grows by one per frame period; a jump means lost frames
+  int64_t capture_time_ns = 0;  // CLOCK_REALTIME at exposure (driver timestamp if known)
 };
 
 // What one Read() produced.
@@ -31,25 +30,27 @@ enum class CaptureStatus {
   kFrame,        // `frame` holds a new image
   kTimeout,      // nothing within the timeout (a live source may still deliver later)
   kEndOfStream,  // a finite source (file, folder) has no more frames
-  kError,        // a recoverable failure (device gone, corrupt or wrong-size frame); see
-                 // LastError(). If it concerns one frame, frame->frame_index names that frame
-                 // and frame->image is empty, so the node can publish it flagged.
+  kFrameError,   // one frame was unusable (corrupt, wrong size, error-flagged by the driver):
+                 // frame->frame_index and capture_time_ns name it, frame->image is empty, so
+                 // the node can publish it flagged; see LastError()
+  kError,        // the source failed (device gone); it may recover on later reads; see
+                 // LastError()
 };
 
 // What the source actually delivers (a device may not grant what was asked).
 struct CaptureFormat {
   int width = 0;
   int height = 0;
-  double fps = 0.0;            // nominal frames per second (0 if unknown)
-  std::string pixel_format;    // e.g. "YUYV", "MJPG", "BGR", "GRAY"
+  double fps = 0.0;          // nominal frames per second (0 if unknown)
+  std::string pixel_format;  // e.g. "YUYV", "MJPG", "BGR", "GRAY"
 };
 
 // Running totals of a source.
 struct CaptureCounters {
-  uint64_t frames = 0;         // frames delivered
-  uint64_t dropped = 0;        // frames the device or decoder lost (index gaps, bad frames)
-  uint64_t errors = 0;         // kError results
-  uint64_t reopens = 0;        // successful re-opens after the device disappeared
+  uint64_t frames = 0;   // frames delivered
+  uint64_t dropped = 0;  // frames the device or decoder lost (index gaps, bad frames)
+  uint64_t errors = 0;   // kError results
+  uint64_t reopens = 0;  // successful re-opens after the device disappeared
 };
 
 // A source of frames. Not thread-safe: one thread calls Open/Read/Close.

@@ -3,6 +3,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 
 #include "node/capture/capture_source.h"
@@ -15,7 +16,8 @@ void SleepUntilRealtime(int64_t when_ns) {
   timespec target{};
   target.tv_sec = static_cast<time_t>(when_ns / 1000000000LL);
   target.tv_nsec = static_cast<long>(when_ns % 1000000000LL);
-  while (clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &target, nullptr) != 0) {
+  // Absolute sleeps resume after a signal; any other error ends the wait.
+  while (clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &target, nullptr) == EINTR) {
   }
 }
 
