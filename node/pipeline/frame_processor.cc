@@ -67,13 +67,12 @@ ProcessedFrame FrameProcessor::Process(const CapturedFrame& frame) {
   out.foreground_pixels = summary.foreground_pixels;
   out.hull_vertices = payload.hull.size();
   if (options_.contour_every > 0 &&
-      processed_ % static_cast<uint64_t>(options_.contour_every) == 0) {
+      frame.frame_index % static_cast<uint64_t>(options_.contour_every) == 0) {
     FrameRecord contour = Header(frame.frame_index, frame.capture_time_ns, flags);
     contour.payload = EncodeContours(ExtractContours(segmentation.mask, options_.contour));
     out.contour = std::move(contour);
   }
   out.mask = std::move(segmentation.mask);
-  ++processed_;
   return out;
 }
 

@@ -21,7 +21,8 @@ struct FrameProcessorOptions {
   uint32_t session = 0;
   SegmentationOptions segmentation;
   ContourOptions contour;
-  // Extract and publish the full contour every `contour_every` frames (0 = never).
+  // Extract and publish the full contour of frames whose index is a multiple of
+  // `contour_every` (0 = never); flagged frames have none.
   int contour_every = 1;
   // A silhouette covering more than this fraction of the image is flagged saturated.
   double saturated_fraction = 0.9;
@@ -63,7 +64,6 @@ class FrameProcessor {
   int width_;
   int height_;
   SilhouetteSegmenter segmenter_;
-  uint64_t processed_ = 0;
 };
 
 }  // namespace silnet::node

@@ -1,0 +1,319 @@
+#include "aggregator/ingest/ingest_service.h"
+
+#include <spdlog/spdlog.h>
+
+#include <cstdlib>
+#include <opencv2/core/persistence.hpp>
+
+#include "shared/dds/sample_conversions.h"
+#include "shared/silhouette/contour_codec.h"
+#include "shared/silhouette/hull_codec.h"
+#include "shared/util/check.h"
+
+namespace silnet::aggregator {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Validates a received frame sample; returns a reason if it is malformed.
+std::string CheckFrame(const FrameRecord& record, bool contour) {
+  if (record.camera_id.empty()) return "empty camera id";
+  for (char c : record.camera_id) {
+    if (c < 33 || c > 126) return "camera id with unprintable characters";
+  }
+  if (record.width == 0 || record.height == 0) return "zero image size";
+  std::string error;
+  if (contour) {
+    SilhouetteContours contours;
+    if (!DecodeContours(record.payload, record.width, record.height, &contours, &error))
+      return error;
+  } else {
+    HullPayload payload;
+    if (!DecodeHull(record.payload, record.width, record.height, &payload, &error)) return error;
+  }
+  return {};
+}
+
+}  // namespace
+
+struct IngestService::Impl {
+  struct Track {
+    CameraIngestStatus status;
+    FrameIndexSet held;     // hull frames of the newest session
+    int contour_every = 0;  // from the node's CameraInfo (0: no contours expected)
+    std::map<uint64_t, Clock::time_point> contour_due;  // frames whose contour has not arrived
+    std::map<uint64_t, Clock::time_point> asked;        // gap start -> when last requested
+    Clock::time_point first_gap_seen{};
+    Clock::time_point last_sample{};
+    bool any = false;
+  };
+
+  IngestOptions options;
+  SessionStore store;
+  std::unique_ptr<dds::Participant> participant;
+  std::unique_ptr<dds::Topic<silnet_wire_HullFrame>> hull_topic;
+  std::unique_ptr<dds::Topic<silnet_wire_Contour>> contour_topic;
+  std::unique_ptr<dds::Topic<silnet_wire_CameraInfo>> info_topic;
+  std::unique_ptr<dds::Topic<silnet_wire_NodeStatus>> status_topic;
+  std::unique_ptr<dds::Topic<silnet_wire_Command>> command_topic;
+  std::unique_ptr<dds::Reader<silnet_wire_HullFrame>> hull_reader;
+  std::unique_ptr<dds::Reader<silnet_wire_Contour>> contour_reader;
+  std::unique_ptr<dds::Reader<silnet_wire_CameraInfo>> info_reader;
+  std::unique_ptr<dds::Reader<silnet_wire_NodeStatus>> status_reader;
+  std::unique_ptr<dds::Writer<silnet_wire_Command>> command_writer;
+  std::map<std::string, Track> tracks;
+  uint64_t malformed_unknown = 0;
+  uint64_t next_command_id = 1;
+
+  explicit Impl(IngestOptions o) : options(std::move(o)), store(options.store_dir) {}
+
+  Track& TrackFor(const std::string& camera_id) {
+    Track& t = tracks[camera_id];
+    t.status.camera_id = camera_id;
+    return t;
+  }
+
+  void StartSession(Track& t, uint32_t session) {
+    t.status.session = session;
+    t.held = store.HullFrames(t.status.camera_id, session);
+    t.asked.clear();
+    t.contour_due.clear();
+    t.any = !t.held.empty();
+  }
+
+  void OnHull(const FrameRecord& record) {
+    if (const std::string reason = CheckFrame(record, false); !reason.empty()) {
+      spdlog::warn("malformed HullFrame from '{}' (frame {}): {}", record.camera_id,
+                   record.frame_index, reason);
+      if (record.camera_id.empty()) {
+        ++malformed_unknown;
+      } else {
+        ++TrackFor(record.camera_id).status.malformed;
+      }
+      return;
+    }
+    Track& t = TrackFor(record.camera_id);
+    ++t.status.received;
+    t.last_sample = Clock::now();
+    if (record.session > t.status.session) StartSession(t, record.session);
+    const bool late = record.session == t.status.session && t.any &&
+                      record.frame_index < t.held.max() &&
+                      !(record.flags & silnet_wire_FRAME_RESENT);
+    switch (store.Add(SessionRecordType::kHullFrame, record)) {
+      case StoreResult::kDuplicate:
+        ++t.status.duplicates;
+        return;
+      case StoreResult::kFailed:
+        ++t.status.store_failures;
+        return;
+      case StoreResult::kStored:
+        break;
+    }
+    if (record.session != t.status.session) return;  // an older session's frame: stored
+    if (late) ++t.status.out_of_order;
+    if (record.flags & silnet_wire_FRAME_RESENT) ++t.status.resent_received;
+    t.held.Insert(record.frame_index);
+    t.any = true;
+    const bool has_contour =
+        t.contour_every > 0 && record.frame_index % static_cast<uint64_t>(t.contour_every) == 0 &&
+        !(record.flags & (silnet_wire_FRAME_DROPPED | silnet_wire_FRAME_BAD_INPUT));
+    if (has_contour && !store.HasContour(record.camera_id, record.session, record.frame_index)) {
+      t.contour_due.emplace(record.frame_index, Clock::now());
+    }
+  }
+
+  void OnContour(const FrameRecord& record) {
+    if (const std::string reason = CheckFrame(record, true); !reason.empty()) {
+      spdlog::warn("malformed Contour from '{}' (frame {}): {}", record.camera_id,
+                   record.frame_index, reason);
+      ++TrackFor(record.camera_id.empty() ? "?" : record.camera_id).status.malformed;
+      return;
+    }
+    Track& t = TrackFor(record.camera_id);
+    if (store.Add(SessionRecordType::kContour, record) == StoreResult::kStored) ++t.status.contours;
+    if (record.session == t.status.session) t.contour_due.erase(record.frame_index);
+  }
+
+  void RequestResend(Track& t, uint64_t first, uint64_t last) {
+    silnet_wire_Command command{};
+    command.command_id = next_command_id++;
+    dds::CopyBoundedString("aggregator", command.issuer, "issuer");
+    dds::CopyBoundedString(t.status.camera_id, command.target, "target");
+    command.kind = silnet_wire_COMMAND_RESEND;
+    command.session = t.status.session;
+    command.from_frame = first;
+    command.to_frame = last;
+    command_writer->Write(command);
+    ++t.status.resend_requests;
+    spdlog::info("asking {} to re-send frames {}..{} of session {}", t.status.camera_id, first,
+                 last, t.status.session);
+  }
+
+  void RequestMissing() {
+    const auto now = Clock::now();
+    for (auto& [id, t] : tracks) {
+      if (!t.any) continue;
+      // Sessions number their frames from 0; anything below the newest frame held is a gap.
+      std::vector<FrameRange> gaps = t.held.Missing(0);
+      // Frames the node reports published beyond the newest one held, once the stream is quiet.
+      if (t.status.node_published > t.held.max() + 1 &&
+          now - t.last_sample > options.resend_grace) {
+        gaps.push_back({t.held.max() + 1, t.status.node_published - 1});
+      }
+      // Frames whose contour is overdue are asked for again (their hull arrives twice).
+      for (auto it = t.contour_due.begin(); it != t.contour_due.end();) {
+        if (now - it->second < options.resend_grace) {
+          ++it;
+          continue;
+        }
+        FrameRange range{it->first, it->first};
+        for (++it; it != t.contour_due.end() && it->first == range.last + 1 &&
+                   now - it->second >= options.resend_grace;
+             ++it) {
+          range.last = it->first;
+        }
+        gaps.push_back(range);
+      }
+      if (gaps.empty()) {
+        t.first_gap_seen = {};
+        continue;
+      }
+      if (t.first_gap_seen == Clock::time_point{}) t.first_gap_seen = now;
+      if (now - t.first_gap_seen < options.resend_grace) continue;
+      for (const FrameRange& gap : gaps) {
+        auto asked = t.asked.find(gap.first);
+        if (asked != t.asked.end() && now - asked->second < options.resend_interval) continue;
+        RequestResend(t, gap.first, std::min(gap.last, gap.first + options.max_resend_frames - 1));
+        t.asked[gap.first] = now;
+      }
+    }
+  }
+};
+
+IngestService::IngestService(IngestOptions options)
+    : impl_(std::make_unique<Impl>(std::move(options))) {}
+IngestService::~IngestService() = default;
+
+void IngestService::Open() {
+  Impl& s = *impl_;
+  s.store.Open();
+  for (const std::string& id : s.store.Cameras()) {
+    const std::vector<uint32_t> sessions = s.store.Sessions(id);
+    if (sessions.empty()) continue;
+    Impl::Track& t = s.TrackFor(id);
+    s.StartSession(t, sessions.back());
+  }
+  s.participant = std::make_unique<dds::Participant>(s.options.domain);
+  s.hull_topic = std::make_unique<dds::Topic<silnet_wire_HullFrame>>(*s.participant);
+  s.contour_topic = std::make_unique<dds::Topic<silnet_wire_Contour>>(*s.participant);
+  s.info_topic = std::make_unique<dds::Topic<silnet_wire_CameraInfo>>(*s.participant);
+  s.status_topic = std::make_unique<dds::Topic<silnet_wire_NodeStatus>>(*s.participant);
+  s.command_topic = std::make_unique<dds::Topic<silnet_wire_Command>>(*s.participant);
+  s.hull_reader =
+      std::make_unique<dds::Reader<silnet_wire_HullFrame>>(*s.hull_topic, s.options.qos);
+  s.contour_reader =
+      std::make_unique<dds::Reader<silnet_wire_Contour>>(*s.contour_topic, s.options.qos);
+  s.info_reader =
+      std::make_unique<dds::Reader<silnet_wire_CameraInfo>>(*s.info_topic, s.options.qos);
+  s.status_reader =
+      std::make_unique<dds::Reader<silnet_wire_NodeStatus>>(*s.status_topic, s.options.qos);
+  s.command_writer =
+      std::make_unique<dds::Writer<silnet_wire_Command>>(*s.command_topic, s.options.qos);
+}
+
+size_t IngestService::Poll(std::chrono::milliseconds wait) {
+  Impl& s = *impl_;
+  s.hull_reader->WaitForData(wait);
+  size_t handled = 0;
+  handled += s.hull_reader->Take([&](const silnet_wire_HullFrame& sample,
+                                     const dds_sample_info_t&) { s.OnHull(dds::FromWire(sample)); },
+                                 100000);
+  handled +=
+      s.contour_reader->Take([&](const silnet_wire_Contour& sample,
+                                 const dds_sample_info_t&) { s.OnContour(dds::FromWire(sample)); },
+                             100000);
+  handled +=
+      s.info_reader->Take([&](const silnet_wire_CameraInfo& sample, const dds_sample_info_t&) {
+        const CameraInfoRecord info = dds::FromWire(sample);
+        if (info.camera_id.empty()) return;
+        s.store.AddCameraInfo(info);
+        Impl::Track& t = s.TrackFor(info.camera_id);
+        const auto every = info.parameters.find("contour_every");
+        if (every != info.parameters.end()) t.contour_every = std::atoi(every->second.c_str());
+      });
+  handled +=
+      s.status_reader->Take([&](const silnet_wire_NodeStatus& sample, const dds_sample_info_t&) {
+        const std::string id = dds::ReadBoundedString(sample.camera_id);
+        if (id.empty()) return;
+        Impl::Track& t = s.TrackFor(id);
+        if (sample.session != t.status.session) return;  // another session's counts
+        t.status.node_state = dds::ReadBoundedString(sample.state);
+        t.status.node_fps = sample.fps;
+        t.status.node_published = sample.frames_published;
+      });
+  s.RequestMissing();
+  return handled;
+}
+
+std::vector<CameraIngestStatus> IngestService::Status() const {
+  std::vector<CameraIngestStatus> out;
+  const auto now = Clock::now();
+  for (const auto& [id, t] : impl_->tracks) {
+    CameraIngestStatus status = t.status;
+    status.frames_held = t.held.size();
+    if (t.any) {
+      status.first_frame = t.held.min();
+      status.last_frame = t.held.max();
+      for (const FrameRange& gap : t.held.Missing(0))
+        status.missing += gap.last - gap.first + 1;
+    }
+    status.seconds_since_last = t.last_sample == Clock::time_point{}
+                                    ? -1.0
+                                    : std::chrono::duration<double>(now - t.last_sample).count();
+    out.push_back(status);
+  }
+  return out;
+}
+
+IngestTotals IngestService::Totals() const {
+  IngestTotals totals;
+  totals.malformed = impl_->malformed_unknown;
+  for (const CameraIngestStatus& c : Status()) {
+    totals.received += c.received;
+    totals.stored += c.frames_held;
+    totals.duplicates += c.duplicates;
+    totals.malformed += c.malformed;
+    totals.out_of_order += c.out_of_order;
+    totals.resend_requests += c.resend_requests;
+    totals.missing += c.missing;
+  }
+  return totals;
+}
+
+void IngestService::Flush() {
+  impl_->store.Flush();
+}
+
+void IngestService::WriteSummary(const std::filesystem::path& path) const {
+  cv::FileStorage fs(path.string(), cv::FileStorage::WRITE);
+  if (!fs.isOpened()) throw InputError("cannot write " + path.string());
+  fs << "cameras"
+     << "[";
+  for (const CameraIngestStatus& c : Status()) {
+    fs << "{"
+       << "id" << c.camera_id << "session" << static_cast<int>(c.session) << "frames_held"
+       << static_cast<double>(c.frames_held) << "first_frame" << static_cast<double>(c.first_frame)
+       << "last_frame" << static_cast<double>(c.last_frame) << "missing"
+       << static_cast<double>(c.missing) << "received" << static_cast<double>(c.received)
+       << "contours" << static_cast<double>(c.contours) << "duplicates"
+       << static_cast<double>(c.duplicates) << "out_of_order" << static_cast<double>(c.out_of_order)
+       << "malformed" << static_cast<double>(c.malformed) << "resend_requests"
+       << static_cast<double>(c.resend_requests) << "resent_received"
+       << static_cast<double>(c.resent_received) << "store_failures"
+       << static_cast<double>(c.store_failures) << "}";
+  }
+  fs << "]";
+  fs << "malformed_without_camera" << static_cast<double>(impl_->malformed_unknown);
+}
+
+}  // namespace silnet::aggregator
