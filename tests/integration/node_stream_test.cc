@@ -157,6 +157,25 @@ TEST(NodeStream, ALateSubscriberGetsTheFramesItMissedReSent) {
   EXPECT_GT(static_cast<double>(camera["resent_received"]), 100.0);
 }
 
+TEST(NodeStream, SigtermStopsTheNodeCleanlyWithItsRecordingFlushed) {
+  testing::TempDir work;
+  testing::ChildProcess node(kNode, {"--camera-id", "cam00", "--source", "sim:" + (Dataset() / "cam00").string(),
+                                     "--record", (work / "rec").string()},
+                             work.path());
+  std::this_thread::sleep_for(seconds(2));
+  node.Signal(SIGTERM);
+  ASSERT_EQ(node.Wait(seconds(20)), std::optional<int>(0)) << node.Stderr();
+  aggregator::SessionReadReport report;
+  const auto sessions = aggregator::ReadSessionLog(SessionLogPath(work / "rec", "cam00"), &report);
+  EXPECT_FALSE(report.torn_tail);
+  EXPECT_TRUE(report.problem.empty()) << report.problem;
+  ASSERT_EQ(sessions.size(), 1u);
+  ASSERT_GT(sessions[0].hulls.size(), 10u);
+  ASSERT_LT(sessions[0].hulls.size(), 300u);
+  for (uint64_t i = 0; i < sessions[0].hulls.size(); ++i) EXPECT_EQ(sessions[0].hulls[i].frame_index, i);
+  EXPECT_NE(node.Stderr().find("published"), std::string::npos);
+}
+
 TEST(NodeStream, BadInputGivesClearErrorsOrFlaggedFrames) {
   testing::TempDir work;
   // Unreadable sources and malformed options: exit code 2 and a message naming the problem.

@@ -1,0 +1,165 @@
+// A CameraNode run in-process over loopback DDS, driven by commands from a test participant:
+// set-parameter, capture-still, stop/start, record start/stop; its status and camera info.
+
+#include "node/camera_node.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <thread>
+
+#include "aggregator/ingest/session_store.h"
+#include "node/capture/files/image_folder_source.h"
+#include "shared/dds/sample_conversions.h"
+#include "tests/support/temp_dir.h"
+
+namespace silnet::node {
+namespace {
+
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+
+// Polls `condition` for up to `timeout`.
+template <class Condition>
+bool Eventually(Condition condition, milliseconds timeout = milliseconds(10000)) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (condition()) return true;
+    std::this_thread::sleep_for(milliseconds(20));
+  }
+  return condition();
+}
+
+class CameraNodeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    for (int k = 0; k < 200; ++k) {
+      cv::Mat mask(96, 128, CV_8U, cv::Scalar(0));
+      cv::circle(mask, {30 + k % 60, 48}, 15, 255, -1);
+      cv::imwrite(dir_.path().string() + "/f" + std::to_string(1000 + k) + ".png", mask);
+    }
+    ImageFolderSourceOptions source;
+    source.folder = dir_.path();
+    source.masks = true;
+    source.fps = 25.0;
+    source.real_time = true;
+    CameraNodeOptions options;
+    options.processing.camera_id = "camT";
+    options.processing.session = 9;
+    options.processing.segmentation.method = SegmentationMethod::kMaskInput;
+    options.status_period = milliseconds(200);
+    options.linger = milliseconds(500);
+    options.domain = dds::DomainConfig::FromEnvironment();
+    node_ = std::make_unique<CameraNode>(options, std::make_unique<ImageFolderSource>(source));
+    runner_ = std::thread([this] { node_->Run(stop_); });
+  }
+  void TearDown() override {
+    stop_ = true;
+    runner_.join();
+  }
+
+  void Send(silnet_wire_CommandKind kind, const std::string& name = "", const std::string& value = "") {
+    silnet_wire_Command command{};
+    command.command_id = ++command_id_;
+    dds::CopyBoundedString("test", command.issuer, "issuer");
+    dds::CopyBoundedString("camT", command.target, "target");
+    command.kind = kind;
+    dds::CopyBoundedString(name, command.parameter.name, "name");
+    dds::CopyBoundedString(value, command.parameter.value, "value");
+    ASSERT_TRUE(command_writer_.Write(command));
+  }
+
+  testing::TempDir dir_;
+  std::atomic<bool> stop_{false};
+  std::unique_ptr<CameraNode> node_;
+  std::thread runner_;
+  dds::Participant participant_;
+  dds::Topic<silnet_wire_Command> command_topic_{participant_};
+  dds::Writer<silnet_wire_Command> command_writer_{command_topic_};
+  dds::Topic<silnet_wire_HullFrame> hull_topic_{participant_};
+  dds::Reader<silnet_wire_HullFrame> hulls_{hull_topic_};
+  dds::Topic<silnet_wire_CameraInfo> info_topic_{participant_};
+  dds::Reader<silnet_wire_CameraInfo> infos_{info_topic_};
+  dds::Topic<silnet_wire_NodeStatus> status_topic_{participant_};
+  dds::Reader<silnet_wire_NodeStatus> statuses_{status_topic_};
+  dds::Topic<silnet_wire_Still> still_topic_{participant_};
+  dds::Reader<silnet_wire_Still> stills_{still_topic_};
+  uint64_t command_id_ = 0;
+};
+
+TEST_F(CameraNodeTest, ObeysCommandsAndReportsItsState) {
+  ASSERT_TRUE(command_writer_.WaitForReaders(1, seconds(10)));
+  // Camera info is latched and describes the node.
+  CameraInfoRecord info;
+  ASSERT_TRUE(Eventually([&] {
+    infos_.Take([&](const silnet_wire_CameraInfo& s, const dds_sample_info_t&) { info = dds::FromWire(s); });
+    return !info.camera_id.empty();
+  }));
+  EXPECT_EQ(info.camera_id, "camT");
+  EXPECT_EQ(info.width, 128);
+  EXPECT_EQ(info.segmentation, "mask");
+  EXPECT_EQ(info.parameters.at("min_blob_area"), "120");
+
+  // Set a parameter: the node re-publishes its camera info.
+  Send(silnet_wire_COMMAND_SET_PARAMETER, "min_blob_area", "77");
+  ASSERT_TRUE(Eventually([&] {
+    infos_.Take([&](const silnet_wire_CameraInfo& s, const dds_sample_info_t&) { info = dds::FromWire(s); });
+    return info.parameters.at("min_blob_area") == "77";
+  }));
+
+  // A still arrives in chunks and decodes to one of the camera's frames.
+  Send(silnet_wire_COMMAND_CAPTURE_STILL);
+  std::vector<uint8_t> png;
+  uint32_t chunks = 0, expected_chunks = 1;
+  ASSERT_TRUE(Eventually([&] {
+    stills_.Take([&](const silnet_wire_Still& s, const dds_sample_info_t&) {
+      png.insert(png.end(), s.data._buffer, s.data._buffer + s.data._length);
+      expected_chunks = s.chunk_count;
+      ++chunks;
+    });
+    return chunks > 0 && chunks == expected_chunks;
+  }));
+  const cv::Mat still = cv::imdecode(png, cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(still.size(), cv::Size(128, 96));
+  EXPECT_GT(cv::countNonZero(still), 500);
+
+  // Stop: no new frames; start: frames again.
+  Send(silnet_wire_COMMAND_STOP);
+  std::this_thread::sleep_for(milliseconds(300));
+  hulls_.Take([](const silnet_wire_HullFrame&, const dds_sample_info_t&) {}, 100000);
+  std::this_thread::sleep_for(milliseconds(500));
+  size_t while_stopped = hulls_.Take([](const silnet_wire_HullFrame&, const dds_sample_info_t&) {}, 100000);
+  EXPECT_LE(while_stopped, 1u);
+  Send(silnet_wire_COMMAND_START);
+  size_t after_start = 0;
+  ASSERT_TRUE(Eventually([&] {
+    after_start += hulls_.Take([](const silnet_wire_HullFrame&, const dds_sample_info_t&) {}, 100000);
+    return after_start > 3;
+  }));
+
+  // Recording on command.
+  Send(silnet_wire_COMMAND_RECORD_START, "", (dir_ / "rec").string());
+  std::this_thread::sleep_for(milliseconds(600));
+  Send(silnet_wire_COMMAND_RECORD_STOP);
+  ASSERT_TRUE(Eventually([&] { return std::filesystem::exists(SessionLogPath(dir_ / "rec", "camT")); }));
+  std::this_thread::sleep_for(milliseconds(200));
+  const auto recorded = aggregator::ReadSessionLog(SessionLogPath(dir_ / "rec", "camT"));
+  ASSERT_EQ(recorded.size(), 1u);
+  EXPECT_GT(recorded[0].hulls.size(), 5u);
+  EXPECT_EQ(recorded[0].info.parameters.at("min_blob_area"), "77");
+
+  // Status: running at about the source's rate, with commands counted.
+  silnet_wire_NodeStatus status{};
+  ASSERT_TRUE(Eventually([&] {
+    statuses_.Take([&](const silnet_wire_NodeStatus& s, const dds_sample_info_t&) { status = s; });
+    return status.fps > 10.0;
+  }));
+  EXPECT_EQ(dds::ReadBoundedString(status.camera_id), "camT");
+  EXPECT_EQ(status.session, 9u);
+  EXPECT_NE(dds::ReadBoundedString(status.state).find("running"), std::string::npos);
+  EXPECT_GE(node_->Counters().commands, 6u);
+}
+
+}  // namespace
+}  // namespace silnet::node
