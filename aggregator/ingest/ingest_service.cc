@@ -278,6 +278,14 @@ std::vector<CameraIngestStatus> IngestService::Status() const {
 IngestTotals IngestService::Totals() const {
   IngestTotals totals;
   totals.malformed = impl_->malformed_unknown;
+  for (const auto& [id, t] : impl_->tracks)
+    totals.contours_overdue += t.contour_due.size();
+  if (impl_->hull_reader) {
+    const dds::ReaderCounters hull = impl_->hull_reader->Counters(),
+                              contour = impl_->contour_reader->Counters();
+    totals.dds_samples_lost = hull.samples_lost + contour.samples_lost;
+    totals.dds_samples_rejected = hull.samples_rejected + contour.samples_rejected;
+  }
   for (const CameraIngestStatus& c : Status()) {
     totals.received += c.received;
     totals.stored += c.frames_held;
@@ -313,7 +321,11 @@ void IngestService::WriteSummary(const std::filesystem::path& path) const {
        << static_cast<double>(c.store_failures) << "}";
   }
   fs << "]";
+  const IngestTotals totals = Totals();
   fs << "malformed_without_camera" << static_cast<double>(impl_->malformed_unknown);
+  fs << "contours_overdue" << static_cast<double>(totals.contours_overdue);
+  fs << "dds_samples_lost" << static_cast<double>(totals.dds_samples_lost);
+  fs << "dds_samples_rejected" << static_cast<double>(totals.dds_samples_rejected);
 }
 
 }  // namespace silnet::aggregator

@@ -53,6 +53,9 @@ struct CameraIngestStatus {
 struct IngestTotals {
   uint64_t received = 0, stored = 0, duplicates = 0, malformed = 0, out_of_order = 0,
            resend_requests = 0, missing = 0;
+  uint64_t contours_overdue = 0;  // hull frames whose contour has not arrived (yet)
+  uint64_t dds_samples_lost = 0;  // reported by DDS on the frame readers
+  uint64_t dds_samples_rejected = 0;
 };
 
 // Subscribes, validates, stores, tracks and requests re-sends. One thread calls Poll().

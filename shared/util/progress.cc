@@ -15,16 +15,25 @@ Progress::Progress(std::string task, std::size_t total, Callback callback,
       start_(std::chrono::steady_clock::now()),
       last_report_(start_) {}
 
+void Progress::Restart(std::string task, std::size_t total) {
+  std::lock_guard lock(report_mutex_);
+  task_ = std::move(task);
+  total_ = total;
+  done_ = 0;
+  start_ = std::chrono::steady_clock::now();
+  last_report_ = start_;
+}
+
 ProgressUpdate Progress::Snapshot(bool finished) const {
   ProgressUpdate update;
   update.task = task_;
   update.done = done_.load();
-  update.total = total_;
+  update.total = total_.load();
   update.finished = finished;
   update.elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  if (update.done > 0 && total_ >= update.done) {
-    update.remaining_s = update.elapsed_s * static_cast<double>(total_ - update.done) /
+  if (update.done > 0 && update.total >= update.done) {
+    update.remaining_s = update.elapsed_s * static_cast<double>(update.total - update.done) /
                          static_cast<double>(update.done);
   }
   return update;

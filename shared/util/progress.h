@@ -33,6 +33,9 @@ class Progress {
   explicit Progress(std::string task, std::size_t total, Callback callback = {},
                     std::chrono::milliseconds min_interval = std::chrono::milliseconds(500));
 
+  // Starts a new stage of the job: another task name and total, the count back to zero
+  // (the callback and the cancellation flag stay). Call between stages, not concurrently.
+  void Restart(std::string task, std::size_t total);
   // Adds `n` finished items; calls the callback if the interval has passed.
   void Advance(std::size_t n = 1);
   // Reports the job finished (always calls the callback once).
@@ -41,13 +44,13 @@ class Progress {
   void Cancel() { cancelled_.store(true); }
   bool cancelled() const { return cancelled_.load(); }
   std::size_t done() const { return done_.load(); }
-  std::size_t total() const { return total_; }
+  std::size_t total() const { return total_.load(); }
 
  private:
   ProgressUpdate Snapshot(bool finished) const;
 
   std::string task_;
-  std::size_t total_;
+  std::atomic<std::size_t> total_;
   Callback callback_;
   std::chrono::milliseconds min_interval_;
   std::chrono::steady_clock::time_point start_;

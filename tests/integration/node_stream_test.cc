@@ -74,6 +74,7 @@ TEST(NodeStream, EveryFrameArrivesExactlyOnceAndInOrder) {
   ASSERT_EQ(node.Wait(seconds(120)), std::optional<int>(0)) << node.Stderr();
   ASSERT_EQ(aggregator.Wait(seconds(60)), std::optional<int>(0)) << aggregator.Stderr();
   const std::filesystem::path store = work / "agg/sessions";
+  std::printf("%s", aggregator.Stdout().c_str());
   const std::vector<uint64_t> order = ArrivalOrder(SessionLogPath(store, "cam00"));
   ASSERT_EQ(order.size(), 300u) << aggregator.Stdout();
   for (uint64_t i = 0; i < order.size(); ++i)
@@ -159,9 +160,11 @@ TEST(NodeStream, ALateSubscriberGetsTheFramesItMissedReSent) {
 
 TEST(NodeStream, SigtermStopsTheNodeCleanlyWithItsRecordingFlushed) {
   testing::TempDir work;
-  testing::ChildProcess node(kNode, {"--camera-id", "cam00", "--source", "sim:" + (Dataset() / "cam00").string(),
-                                     "--record", (work / "rec").string()},
-                             work.path());
+  testing::ChildProcess node(
+      kNode,
+      {"--camera-id", "cam00", "--source", "sim:" + (Dataset() / "cam00").string(), "--record",
+       (work / "rec").string()},
+      work.path());
   std::this_thread::sleep_for(seconds(2));
   node.Signal(SIGTERM);
   ASSERT_EQ(node.Wait(seconds(20)), std::optional<int>(0)) << node.Stderr();
@@ -172,7 +175,8 @@ TEST(NodeStream, SigtermStopsTheNodeCleanlyWithItsRecordingFlushed) {
   ASSERT_EQ(sessions.size(), 1u);
   ASSERT_GT(sessions[0].hulls.size(), 10u);
   ASSERT_LT(sessions[0].hulls.size(), 300u);
-  for (uint64_t i = 0; i < sessions[0].hulls.size(); ++i) EXPECT_EQ(sessions[0].hulls[i].frame_index, i);
+  for (uint64_t i = 0; i < sessions[0].hulls.size(); ++i)
+    EXPECT_EQ(sessions[0].hulls[i].frame_index, i);
   EXPECT_NE(node.Stderr().find("published"), std::string::npos);
 }
 

@@ -1,0 +1,230 @@
+#include "aggregator/pairwise/pairwise_job.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <opencv2/core/eigen.hpp>
+#include <opencv2/core/persistence.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "aggregator/pairwise/epipolar_overlay.h"
+#include "shared/io/calibration_yaml.h"
+#include "shared/io/dataset_layout.h"
+#include "shared/util/check.h"
+#include "shared/util/parallel_for.h"
+
+namespace silnet::aggregator {
+namespace {
+
+cv::Mat ToMat(const Eigen::MatrixXd& m) {
+  cv::Mat out;
+  cv::eigen2cv(m, out);
+  return out;
+}
+
+// Median of (capture time - k / fps) over frames with a timestamp, in seconds.
+std::optional<double> ClockOrigin(const SilhouetteSequence& s) {
+  std::vector<double> origins;
+  for (const SilhouetteFrame& f : s.frames) {
+    if (f.capture_time_ns <= 0) continue;
+    origins.push_back(static_cast<double>(f.capture_time_ns) * 1e-9 -
+                      static_cast<double>(f.index) / s.fps);
+  }
+  if (origins.size() < 10) return std::nullopt;
+  std::nth_element(origins.begin(),
+                   origins.begin() + static_cast<std::ptrdiff_t>(origins.size() / 2),
+                   origins.end());
+  return origins[origins.size() / 2];
+}
+
+}  // namespace
+
+size_t PairwiseJobResult::ok() const {
+  size_t count = 0;
+  for (const PairwiseResult& p : pairs)
+    count += p.status == PairStatus::kOk ? 1 : 0;
+  return count;
+}
+
+std::optional<double> OffsetFromTimestamps(const SilhouetteSequence& i,
+                                           const SilhouetteSequence& j) {
+  const auto a = ClockOrigin(i), b = ClockOrigin(j);
+  if (!a || !b) return std::nullopt;
+  // a + k / f = b + m / f  =>  m = k + (a - b) f.
+  return (*a - *b) * i.fps;
+}
+
+PairwiseJobResult EstimateAllPairs(const std::vector<SilhouetteSequence>& sequences,
+                                   const PairwiseJobOptions& options, Progress* progress) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<std::pair<size_t, size_t>> pairs;
+  for (size_t i = 0; i < sequences.size(); ++i) {
+    for (size_t j = i + 1; j < sequences.size(); ++j)
+      pairs.emplace_back(i, j);
+  }
+  PairwiseJobResult result;
+  result.pairs.resize(pairs.size());
+  ParallelFor(pairs.size(), options.threads, [&](size_t p) {
+    if (progress != nullptr && progress->cancelled()) return;
+    const auto [i, j] = pairs[p];
+    PairwiseOptions pair = options.pair;
+    pair.seed = options.pair.seed * 1000003u + p;
+    if (options.use_timestamps && !pair.synchronized) {
+      pair.offset_prior = OffsetFromTimestamps(sequences[i], sequences[j]);
+      pair.prior_sigma = options.timestamp_sigma;
+    }
+    result.pairs[p] = EstimatePair(sequences[i], sequences[j], pair, progress);
+    const PairwiseResult& r = result.pairs[p];
+    spdlog::info("pair {}-{}: {}{}{} ({} inliers, offset {:+.3f} +- {:.3f}, {:.1f} s)", r.camera_i,
+                 r.camera_j, ToString(r.status), r.reason.empty() ? "" : ": ", r.reason, r.inliers,
+                 r.offset, r.offset_sigma, r.seconds);
+    if (progress != nullptr) progress->Advance();
+  });
+  if (progress != nullptr) progress->Finish();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+void WritePairsYaml(const std::filesystem::path& path, const PairwiseJobResult& result) {
+  cv::FileStorage fs(path.string(), cv::FileStorage::WRITE);
+  if (!fs.isOpened()) throw InputError(path.string() + ": cannot write");
+  fs << "silnet_pairs_version" << 1;
+  fs << "seconds" << result.seconds;
+  fs << "pairs"
+     << "[";
+  for (const PairwiseResult& p : result.pairs) {
+    fs << "{"
+       << "i" << p.camera_i << "j" << p.camera_j << "status" << ToString(p.status) << "reason"
+       << p.reason;
+    fs << "F" << ToMat(p.F) << "epipole_i" << ToMat(p.model.pencil_i.e) << "epipole_j"
+       << ToMat(p.model.pencil_j.e);
+    fs << "offset" << p.offset << "offset_sigma" << p.offset_sigma << "inliers"
+       << static_cast<int>(p.inliers);
+    fs << "residual" << p.residual_rms << "spread_score" << p.spread_score;
+    fs << "epipole_inside_fraction" << p.epipole_inside_fraction << "tau0" << p.tau0;
+    fs << "iterations" << static_cast<double>(p.iterations) << "candidates"
+       << static_cast<int>(p.candidates);
+    fs << "agreeing" << static_cast<int>(p.candidates_agreeing) << "seconds" << p.seconds << "}";
+  }
+  fs << "]";
+}
+
+std::vector<PairwiseResult> ReadPairsYaml(const std::filesystem::path& path,
+                                          const std::filesystem::path& matches_dir) {
+  cv::FileStorage fs = OpenYamlForReading(path);
+  const cv::FileNode pairs = fs["pairs"];
+  if (pairs.empty() || !pairs.isSeq()) throw InputError(path.string() + ": no 'pairs' sequence");
+  std::vector<PairwiseResult> out;
+  for (const cv::FileNode& node : pairs) {
+    PairwiseResult p;
+    p.camera_i = static_cast<std::string>(node["i"]);
+    p.camera_j = static_cast<std::string>(node["j"]);
+    const std::string status = node["status"];
+    p.status = status == "ok"           ? PairStatus::kOk
+               : status == "degenerate" ? PairStatus::kDegenerate
+                                        : PairStatus::kFailed;
+    p.reason = static_cast<std::string>(node["reason"]);
+    cv::Mat f;
+    node["F"] >> f;
+    if (f.rows != 3 || f.cols != 3)
+      throw InputError(path.string() + ": pair " + p.camera_i + "-" + p.camera_j + " has no 3x3 F");
+    Eigen::Matrix3d fe;
+    cv::cv2eigen(f, fe);
+    p.F = fe;
+    p.offset = node["offset"];
+    p.model = EpipolarModel::FromFundamental(fe, p.offset);
+    p.offset_sigma = node["offset_sigma"];
+    p.inliers = static_cast<size_t>(static_cast<int>(node["inliers"]));
+    p.residual_rms = node["residual"];
+    p.spread_score = node["spread_score"];
+    p.epipole_inside_fraction = node["epipole_inside_fraction"];
+    if (!matches_dir.empty()) {
+      std::ifstream in(matches_dir / (p.camera_i + "-" + p.camera_j + ".csv"));
+      std::string line;
+      std::getline(in, line);  // header
+      while (std::getline(in, line)) {
+        std::istringstream row(line);
+        TimedMatch m;
+        char comma = 0;
+        double xi, yi, xj, yj;
+        if (row >> m.frame_i >> comma >> m.frame_j >> comma >> xi >> comma >> yi >> comma >> xj >>
+            comma >> yj) {
+          m.x_i = {xi, yi};
+          m.x_j_a = m.x_j_b = {xj, yj};
+          p.inlier_matches.push_back(m);
+        }
+      }
+    }
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+void WriteMatchesCsv(const std::filesystem::path& dir, const PairwiseJobResult& result) {
+  std::filesystem::create_directories(dir);
+  for (const PairwiseResult& p : result.pairs) {
+    if (p.inlier_matches.empty()) continue;
+    std::ofstream out(dir / (p.camera_i + "-" + p.camera_j + ".csv"));
+    if (!out)
+      throw InputError((dir / (p.camera_i + "-" + p.camera_j + ".csv")).string() +
+                       ": cannot write");
+    out << "frame_i,frame_j,x_i,y_i,x_j,y_j\n";
+    for (const TimedMatch& m : p.inlier_matches) {
+      const Eigen::Vector2d xj = m.XjAt(p.offset);
+      out << fmt::format("{},{},{:.3f},{:.3f},{:.3f},{:.3f}\n", m.frame_i, m.frame_j, m.x_i.x(),
+                         m.x_i.y(), xj.x(), xj.y());
+    }
+  }
+}
+
+PairwiseJobResult RunPairsJob(const PairsJobConfig& config, Progress* progress) {
+  SequenceLoadOptions load;
+  load.max_frames = config.max_frames;
+  load.allow_warmup = config.options.pair.allow_warmup;
+  load.threads = config.options.threads;
+  SequenceSource source = SequenceSource::kSessionLogs;
+  const std::vector<SilhouetteSequence> sequences = LoadSequences(config.input, load, &source);
+  if (sequences.size() < 2) throw InputError(config.input.string() + ": fewer than two cameras");
+  for (const SilhouetteSequence& s : sequences) {
+    spdlog::info("{}: {} frames, {} usable, {}x{} at {} fps", s.camera_id, s.frames.size(),
+                 s.UsableCount(), s.width, s.height, s.fps);
+  }
+  std::filesystem::create_directories(config.output);
+  if (progress != nullptr)
+    progress->Restart("pairs", sequences.size() * (sequences.size() - 1) / 2);
+  PairwiseJobResult result = EstimateAllPairs(sequences, config.options, progress);
+  WritePairsYaml(config.output / "pairs.yaml", result);
+  WriteMatchesCsv(config.output / "matches", result);
+  if (config.overlays != OverlaySelection::kNone) {
+    std::filesystem::create_directories(config.output / "overlays");
+    const DatasetLayout layout(config.input);
+    auto image = [&](const SilhouetteSequence& s, uint64_t frame) {
+      if (source == SequenceSource::kSessionLogs) return cv::Mat();
+      const auto path = source == SequenceSource::kMaskDataset
+                            ? layout.MaskPath(s.camera_id, static_cast<int>(frame))
+                            : layout.FramePath(s.camera_id, static_cast<int>(frame));
+      return cv::imread(path.string(), cv::IMREAD_COLOR);
+    };
+    for (const PairwiseResult& p : result.pairs) {
+      if (config.overlays == OverlaySelection::kOk && p.status != PairStatus::kOk) continue;
+      const auto& si = *std::find_if(sequences.begin(), sequences.end(),
+                                     [&](const auto& s) { return s.camera_id == p.camera_i; });
+      const auto& sj = *std::find_if(sequences.begin(), sequences.end(),
+                                     [&](const auto& s) { return s.camera_id == p.camera_j; });
+      const uint64_t frame = OverlayFrame(p, si, sj);
+      const uint64_t frame_j =
+          static_cast<uint64_t>(std::max(0.0, std::round(static_cast<double>(frame) + p.offset)));
+      const cv::Mat overlay =
+          DrawPairOverlay(p, si, sj, frame, image(si, frame), image(sj, frame_j));
+      const auto path = config.output / "overlays" / (p.camera_i + "-" + p.camera_j + ".png");
+      if (!cv::imwrite(path.string(), overlay)) throw InputError(path.string() + ": cannot write");
+    }
+  }
+  return result;
+}
+
+}  // namespace silnet::aggregator

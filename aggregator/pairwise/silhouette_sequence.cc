@@ -1,0 +1,162 @@
+#include "aggregator/pairwise/silhouette_sequence.h"
+
+#include <spdlog/spdlog.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "aggregator/ingest/session_store.h"
+#include "node/pipeline/frame_processor.h"
+#include "shared/io/calibration_yaml.h"
+#include "shared/io/dataset_layout.h"
+#include "shared/io/session_log.h"
+#include "shared/silhouette/hull_codec.h"
+#include "shared/util/check.h"
+#include "shared/util/parallel_for.h"
+#include "silnet.h"
+
+namespace silnet::aggregator {
+namespace {
+
+constexpr uint32_t kUnusable = silnet_wire_FRAME_EMPTY | silnet_wire_FRAME_SATURATED |
+                               silnet_wire_FRAME_BAD_INPUT | silnet_wire_FRAME_DROPPED;
+
+SilhouetteFrame DecodeFrame(const FrameRecord& record) {
+  SilhouetteFrame frame;
+  frame.index = record.frame_index;
+  frame.capture_time_ns = record.capture_time_ns;
+  frame.flags = record.flags;
+  HullPayload payload;
+  std::string error;
+  if (!DecodeHull(record.payload, record.width, record.height, &payload, &error)) {
+    frame.flags |= silnet_wire_FRAME_BAD_INPUT;
+  } else {
+    frame.hull = std::move(payload.hull);
+  }
+  return frame;
+}
+
+std::vector<SilhouetteSequence> FromSessionLogs(const std::filesystem::path& dir,
+                                                const SequenceLoadOptions& options) {
+  std::vector<SilhouetteSequence> out;
+  for (const std::string& id : SessionLogCameras(dir)) {
+    SessionReadReport report;
+    std::vector<SessionFrames> sessions = ReadSessionLog(SessionLogPath(dir, id), &report);
+    if (!report.problem.empty()) spdlog::warn("{}: {}", id, report.problem);
+    if (sessions.empty()) continue;
+    const SessionFrames& s = sessions.back();
+    SilhouetteSequence seq;
+    seq.camera_id = id;
+    seq.allow_warmup = options.allow_warmup;
+    seq.fps = s.info.nominal_fps > 0 ? s.info.nominal_fps : 30.0;
+    for (const FrameRecord& record : s.hulls) {
+      if (options.max_frames > 0 && static_cast<int>(seq.frames.size()) >= options.max_frames)
+        break;
+      seq.width = record.width;
+      seq.height = record.height;
+      seq.frames.push_back(DecodeFrame(record));
+    }
+    seq.Index();
+    out.push_back(std::move(seq));
+  }
+  return out;
+}
+
+// Runs a dataset camera's images through the node's own per-frame pipeline and decodes
+// what it encoded, so the wire format is exercised exactly as live.
+SilhouetteSequence FromDatasetCamera(const DatasetLayout& layout, const std::string& id, bool masks,
+                                     const SequenceLoadOptions& options, double fps) {
+  const std::string kind = masks ? "masks" : "frames";
+  int count = layout.CountImages(id, kind) - options.first_frame;
+  if (options.max_frames > 0) count = std::min(count, options.max_frames);
+  SilhouetteSequence seq;
+  seq.camera_id = id;
+  seq.fps = fps;
+  seq.allow_warmup = options.allow_warmup || masks;
+  std::unique_ptr<node::FrameProcessor> processor;
+  for (int k = 0; k < count; ++k) {
+    const int frame = options.first_frame + k;
+    const auto path = masks ? layout.MaskPath(id, frame) : layout.FramePath(id, frame);
+    const cv::Mat image =
+        cv::imread(path.string(), masks ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR);
+    if (image.empty()) throw InputError(path.string() + ": cannot read image");
+    if (!processor) {
+      node::FrameProcessorOptions o;
+      o.camera_id = id;
+      o.contour_every = 0;
+      if (masks) o.segmentation.method = node::SegmentationMethod::kMaskInput;
+      processor = std::make_unique<node::FrameProcessor>(o, image.cols, image.rows);
+      seq.width = image.cols;
+      seq.height = image.rows;
+    }
+    node::CapturedFrame captured;
+    captured.image = image;
+    captured.frame_index = static_cast<uint64_t>(frame);
+    captured.capture_time_ns = static_cast<int64_t>(frame / fps * 1e9);
+    seq.frames.push_back(DecodeFrame(processor->Process(captured).hull));
+  }
+  seq.Index();
+  return seq;
+}
+
+}  // namespace
+
+const SilhouetteFrame* SilhouetteSequence::Usable(uint64_t index) const {
+  if (frames.empty() || index < first_index() || index > last_index()) return nullptr;
+  const int32_t p = position_[index - first_index()];
+  if (p < 0) return nullptr;
+  const SilhouetteFrame& f = frames[static_cast<size_t>(p)];
+  if ((f.flags & kUnusable) || f.hull.size() < 3) return nullptr;
+  if (!allow_warmup && (f.flags & silnet_wire_FRAME_WARMUP)) return nullptr;
+  return &f;
+}
+
+size_t SilhouetteSequence::UsableCount() const {
+  size_t count = 0;
+  for (const SilhouetteFrame& f : frames)
+    count += Usable(f.index) != nullptr ? 1 : 0;
+  return count;
+}
+
+void SilhouetteSequence::Index() {
+  position_.assign(frames.empty() ? 0 : last_index() - first_index() + 1, -1);
+  for (size_t i = 0; i < frames.size(); ++i) {
+    position_[frames[i].index - first_index()] = static_cast<int32_t>(i);
+  }
+}
+
+std::vector<SilhouetteSequence> LoadSequences(const std::filesystem::path& input,
+                                              const SequenceLoadOptions& options,
+                                              SequenceSource* detected) {
+  if (!std::filesystem::is_directory(input)) throw InputError(input.string() + ": not a folder");
+  for (const std::filesystem::path& dir : {input, input / "sessions"}) {
+    if (!SessionLogCameras(dir).empty()) {
+      if (detected != nullptr) *detected = SequenceSource::kSessionLogs;
+      return FromSessionLogs(dir, options);
+    }
+  }
+  const DatasetLayout layout(input);
+  const std::vector<std::string> ids = layout.CameraIds();
+  if (ids.empty()) {
+    throw InputError(
+        input.string() +
+        ": holds neither session logs (*.silnetlog) nor camera folders with masks/ or frames/");
+  }
+  // Frame rates from the ground truth when there is one (the dataset's own description).
+  std::map<std::string, double> fps;
+  if (std::filesystem::exists(layout.GroundTruthPath())) {
+    for (const CameraModel& c : LoadCalibration(layout.GroundTruthPath()))
+      fps[c.id] = c.fps;
+  }
+  const bool masks = layout.CountImages(ids[0], "masks") > 0;
+  if (detected != nullptr)
+    *detected = masks ? SequenceSource::kMaskDataset : SequenceSource::kFrameDataset;
+  std::vector<SilhouetteSequence> out(ids.size());
+  ParallelFor(ids.size(), options.threads, [&](size_t i) {
+    const auto rate = fps.find(ids[i]);
+    out[i] =
+        FromDatasetCamera(layout, ids[i], masks, options, rate == fps.end() ? 30.0 : rate->second);
+  });
+  return out;
+}
+
+}  // namespace silnet::aggregator

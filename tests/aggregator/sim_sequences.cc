@@ -1,0 +1,64 @@
+#include "tests/aggregator/sim_sequences.h"
+
+#include "node/pipeline/frame_processor.h"
+#include "shared/silhouette/hull_codec.h"
+#include "shared/util/parallel_for.h"
+#include "silnet.h"
+#include "sim/render/camera_renderer.h"
+
+namespace silnet::aggregator::testing {
+
+SimCapture MakeSimCapture(const sim::CameraNetworkOptions& network,
+                          const sim::SceneOptions& scene_options, int frames,
+                          const MaskDamage& damage) {
+  SimCapture capture;
+  capture.cameras = sim::MakeCameraNetwork(network);
+  sim::SceneOptions scene = scene_options;
+  double begin = 1e9, end = -1e9;
+  for (const CameraModel& c : capture.cameras) {
+    begin = std::min(begin, c.ExposureTime(-2));
+    end = std::max(end, c.ExposureTime(frames + 2));
+  }
+  scene.time_begin = begin - 1;
+  scene.time_end = end + 1;
+  capture.scene = std::make_unique<sim::Scene>(scene);
+  capture.sequences.resize(capture.cameras.size());
+  ParallelFor(capture.cameras.size(), 0, [&](size_t c) {
+    const CameraModel& camera = capture.cameras[c];
+    const sim::CameraRenderer renderer(camera, *capture.scene, sim::RenderSettings{},
+                                       static_cast<int>(c));
+    node::FrameProcessorOptions options;
+    options.camera_id = camera.id;
+    options.contour_every = 0;
+    options.segmentation.method = node::SegmentationMethod::kMaskInput;
+    node::FrameProcessor processor(options, camera.width, camera.height);
+    std::mt19937_64 rng(1000 + c);
+    SilhouetteSequence& seq = capture.sequences[c];
+    seq.camera_id = camera.id;
+    seq.width = camera.width;
+    seq.height = camera.height;
+    seq.fps = camera.fps;
+    for (int k = 0; k < frames; ++k) {
+      node::CapturedFrame frame;
+      renderer.Render(camera.ExposureTime(k), 0, &frame.image, nullptr);
+      frame.frame_index = static_cast<uint64_t>(k);
+      if (damage) damage(c, k, &frame.image, &rng);
+      const node::ProcessedFrame out =
+          frame.image.empty() ? processor.Flagged(frame.frame_index, 0, silnet_wire_FRAME_DROPPED)
+                              : processor.Process(frame);
+      SilhouetteFrame decoded;
+      decoded.index = out.hull.frame_index;
+      decoded.flags = out.hull.flags;
+      HullPayload payload;
+      std::string error;
+      if (DecodeHull(out.hull.payload, camera.width, camera.height, &payload, &error)) {
+        decoded.hull = std::move(payload.hull);
+      }
+      seq.frames.push_back(std::move(decoded));
+    }
+    seq.Index();
+  });
+  return capture;
+}
+
+}  // namespace silnet::aggregator::testing
