@@ -121,6 +121,20 @@ TEST(PairwiseEstimation, RingWithDroppedFramesAndSpuriousBlobs) {
       EstimateAllPairs(Capture(sim::RigLayout::kRing, 3, 600, damage), 600, Unsynchronised()));
 }
 
+TEST(PairwiseEstimation, RingFromSegmentedColourFrames) {
+  // The node's median model on rendered colour frames (sensor noise, shadows, lighting
+  // changes): 600 frames after its 225-frame warm-up, which the estimator leaves out.
+  sim::CameraNetworkOptions network;
+  network.cameras = 8;
+  network.max_offset = 15.0;
+  network.seed = 5;
+  sim::SceneOptions scene;
+  scene.seed = 5;
+  const int frames = 825;
+  ExpectAcceptance(EstimateAllPairs(testing::MakeSegmentedSimCapture(network, scene, frames),
+                                    frames, Unsynchronised()));
+}
+
 TEST(PairwiseEstimation, AStaticSubjectIsFlaggedNotGuessed) {
   sim::CameraNetworkOptions network;
   network.cameras = 4;

@@ -7,10 +7,14 @@
 #include "sim/render/camera_renderer.h"
 
 namespace silnet::aggregator::testing {
+namespace {
 
-SimCapture MakeSimCapture(const sim::CameraNetworkOptions& network,
-                          const sim::SceneOptions& scene_options, int frames,
-                          const MaskDamage& damage) {
+// Renders one image of camera `c` at its frame `k` into `image` (empty = dropped frame).
+using FrameRenderer = std::function<void(const sim::CameraRenderer& renderer, size_t c, int k,
+                                         std::mt19937_64* rng, cv::Mat* image)>;
+
+SimCapture Capture(const sim::CameraNetworkOptions& network, const sim::SceneOptions& scene_options,
+                   int frames, node::SegmentationMethod method, const FrameRenderer& render) {
   SimCapture capture;
   capture.cameras = sim::MakeCameraNetwork(network);
   sim::SceneOptions scene = scene_options;
@@ -30,7 +34,7 @@ SimCapture MakeSimCapture(const sim::CameraNetworkOptions& network,
     node::FrameProcessorOptions options;
     options.camera_id = camera.id;
     options.contour_every = 0;
-    options.segmentation.method = node::SegmentationMethod::kMaskInput;
+    options.segmentation.method = method;
     node::FrameProcessor processor(options, camera.width, camera.height);
     std::mt19937_64 rng(1000 + c);
     SilhouetteSequence& seq = capture.sequences[c];
@@ -40,9 +44,8 @@ SimCapture MakeSimCapture(const sim::CameraNetworkOptions& network,
     seq.fps = camera.fps;
     for (int k = 0; k < frames; ++k) {
       node::CapturedFrame frame;
-      renderer.Render(camera.ExposureTime(k), 0, &frame.image, nullptr);
+      render(renderer, c, k, &rng, &frame.image);
       frame.frame_index = static_cast<uint64_t>(k);
-      if (damage) damage(c, k, &frame.image, &rng);
       const node::ProcessedFrame out =
           frame.image.empty() ? processor.Flagged(frame.frame_index, 0, silnet_wire_FRAME_DROPPED)
                               : processor.Process(frame);
@@ -59,6 +62,29 @@ SimCapture MakeSimCapture(const sim::CameraNetworkOptions& network,
     seq.Index();
   });
   return capture;
+}
+
+}  // namespace
+
+SimCapture MakeSimCapture(const sim::CameraNetworkOptions& network,
+                          const sim::SceneOptions& scene_options, int frames,
+                          const MaskDamage& damage) {
+  return Capture(network, scene_options, frames, node::SegmentationMethod::kMaskInput,
+                 [&](const sim::CameraRenderer& renderer, size_t c, int k, std::mt19937_64* rng,
+                     cv::Mat* image) {
+                   renderer.Render(renderer.camera().ExposureTime(k), 0, image, nullptr);
+                   if (damage) damage(c, k, image, rng);
+                 });
+}
+
+SimCapture MakeSegmentedSimCapture(const sim::CameraNetworkOptions& network,
+                                   const sim::SceneOptions& scene_options, int frames) {
+  return Capture(
+      network, scene_options, frames, node::SegmentationMethod::kMedian,
+      [](const sim::CameraRenderer& renderer, size_t, int k, std::mt19937_64*, cv::Mat* image) {
+        renderer.Render(renderer.camera().ExposureTime(k), static_cast<uint64_t>(k), nullptr,
+                        image);
+      });
 }
 
 }  // namespace silnet::aggregator::testing

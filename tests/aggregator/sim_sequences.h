@@ -4,6 +4,7 @@
 // decoded as the aggregator does.
 
 #include <functional>
+#include <memory>
 #include <opencv2/imgproc.hpp>
 #include <random>
 #include <vector>
@@ -25,8 +26,14 @@ struct SimCapture {
 // Optional damage to the masks before encoding (camera index, frame, mask, rng).
 using MaskDamage = std::function<void(size_t, int, cv::Mat*, std::mt19937_64*)>;
 
-// Renders `frames` frames of every camera and encodes them with the node's pipeline.
+// Renders `frames` exact masks of every camera and encodes them with the node's pipeline.
 SimCapture MakeSimCapture(const sim::CameraNetworkOptions& network, const sim::SceneOptions& scene,
                           int frames, const MaskDamage& damage = {});
+
+// Renders `frames` colour frames of every camera (default sensor noise, shadows, lighting
+// changes) and runs the node's whole pipeline on them: median-model segmentation, clean-up,
+// hull, encoding. The model's warm-up frames are flagged FRAME_WARMUP, as on the wire.
+SimCapture MakeSegmentedSimCapture(const sim::CameraNetworkOptions& network,
+                                   const sim::SceneOptions& scene, int frames);
 
 }  // namespace silnet::aggregator::testing
