@@ -13,7 +13,7 @@ namespace silnet {
 namespace {
 
 constexpr uint8_t kVersion = 1;
-constexpr double kCoordinateScale = 16.0;
+constexpr double kCoordinateScale = 1.0 / kHullVertexStep;
 
 uint16_t QuantizeCoordinate(double c) {
   const double q = std::round((c + 0.5) * kCoordinateScale);

@@ -1,5 +1,6 @@
 #include "shared/silhouette/melkman_hull.h"
 
+#include <algorithm>
 #include <deque>
 
 namespace silnet {
@@ -61,6 +62,34 @@ std::vector<Eigen::Vector2d> MelkmanHull(const std::vector<Eigen::Vector2d>& pol
       }
     }
   }
+  return hull;
+}
+
+std::vector<Eigen::Vector2d> SortedPointsHull(const std::vector<Eigen::Vector2d>& sorted) {
+  const size_t n = sorted.size();
+  if (n < 3) {
+    std::vector<Eigen::Vector2d> out(sorted);
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+  // One chain forward and one back; a point joins after popping points it makes turn the
+  // wrong way (or go straight on).
+  std::vector<Eigen::Vector2d> hull(2 * n);
+  size_t k = 0;
+  for (size_t i = 0; i < n; ++i) {
+    while (k >= 2 && Orientation(hull[k - 2], hull[k - 1], sorted[i]) >= 0.0)
+      --k;
+    hull[k++] = sorted[i];
+  }
+  for (size_t i = n - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && Orientation(hull[k - 2], hull[k - 1], sorted[i]) >= 0.0)
+      --k;
+    hull[k++] = sorted[i];
+  }
+  hull.resize(k - 1);
+  if (hull.size() < 3) return hull;
+  // The chains above run against the positive orientation.
+  std::reverse(hull.begin(), hull.end());
   return hull;
 }
 

@@ -18,4 +18,9 @@ inline double Orientation(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
 // points only if all input points are collinear (then the two extreme points, or one).
 std::vector<Eigen::Vector2d> MelkmanHull(const std::vector<Eigen::Vector2d>& polyline);
 
+// The convex hull of points sorted by (y, x) (Andrew's monotone chain, linear time), in
+// positive orientation, without repeated or collinear vertices. Unlike MelkmanHull it needs
+// no simple polyline: row extents of several blobs are fine.
+std::vector<Eigen::Vector2d> SortedPointsHull(const std::vector<Eigen::Vector2d>& sorted);
+
 }  // namespace silnet

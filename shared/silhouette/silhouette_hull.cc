@@ -1,10 +1,12 @@
 #include "shared/silhouette/silhouette_hull.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numbers>
 #include <opencv2/core.hpp>
 
+#include "shared/silhouette/lattice_boundary.h"
 #include "shared/silhouette/melkman_hull.h"
 #include "shared/util/check.h"
 
@@ -36,6 +38,41 @@ bool RowExtent(const uint8_t* row, int width, int* first, int* last) {
     --y;
   *last = y;
   return true;
+}
+
+// True if the segment a-b lies on the line x = low, y = low, x = high_x or y = high_y.
+bool OnBorderLine(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double low, double high_x,
+                  double high_y) {
+  return (a.x() == low && b.x() == low) || (a.y() == low && b.y() == low) ||
+         (a.x() == high_x && b.x() == high_x) || (a.y() == high_y && b.y() == high_y);
+}
+
+// The hull with its edges on the image border (x = -0.5, y = -0.5, x = width - 0.5 or
+// y = height - 0.5) marked clipped.
+SilhouetteHull WithClippedEdges(std::vector<Eigen::Vector2d> hull, int width, int height) {
+  std::vector<bool> clipped(hull.size(), false);
+  for (size_t i = 0; i < hull.size(); ++i) {
+    clipped[i] =
+        OnBorderLine(hull[i], hull[(i + 1) % hull.size()], -0.5, width - 0.5, height - 0.5);
+  }
+  return SilhouetteHull(std::move(hull), std::move(clipped));
+}
+
+// The hull of the pixel squares around one or two pixel centres (a dot or a straight run of
+// pixels), whose hull of centres is degenerate.
+SilhouetteHull PixelSquaresHull(const std::vector<Eigen::Vector2d>& centres, int width,
+                                int height) {
+  std::vector<Eigen::Vector2d> corners;
+  for (const Eigen::Vector2d& c : centres) {
+    for (const Eigen::Vector2d& offset : {Eigen::Vector2d(-0.5, -0.5), Eigen::Vector2d(-0.5, 0.5),
+                                          Eigen::Vector2d(0.5, 0.5), Eigen::Vector2d(0.5, -0.5)}) {
+      corners.push_back(c + offset);
+    }
+  }
+  std::sort(corners.begin(), corners.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.y() < b.y() || (a.y() == b.y() && a.x() < b.x());
+  });
+  return WithClippedEdges(SortedPointsHull(corners), width, height);
 }
 
 }  // namespace
@@ -91,50 +128,34 @@ SilhouetteHull ComputeSilhouetteHull(const cv::Mat& mask, MaskSummary* summary) 
   SILNET_CHECK_MSG(mask.type() == CV_8UC1, "silhouette masks are CV_8UC1, got " << mask.type());
   const int width = mask.cols, height = mask.rows;
   // Row extents, top to bottom: the left boundary goes down, the right boundary comes up.
-  std::vector<Eigen::Vector2d> left, right;
-  int top = -1, bottom = -1, top_first = 0, top_last = 0, bottom_first = 0, bottom_last = 0;
+  std::vector<Eigen::Vector2d> extents;  // sorted by (y, x)
+  int top = -1, bottom = -1;
   bool touches = false;
   for (int y = 0; y < height; ++y) {
     int first = 0, last = 0;
     if (!RowExtent(mask.ptr<uint8_t>(y), width, &first, &last)) continue;
-    if (top < 0) {
-      top = y;
-      top_first = first;
-      top_last = last;
-    }
+    if (top < 0) top = y;
     bottom = y;
-    bottom_first = first;
-    bottom_last = last;
     touches = touches || first == 0 || last == width - 1;
-    left.emplace_back(first - 0.5, y);
-    right.emplace_back(last + 0.5, y);
+    extents.emplace_back(first, y);
+    if (last != first) extents.emplace_back(last, y);
   }
   if (summary != nullptr) {
     summary->foreground_pixels = top < 0 ? 0 : cv::countNonZero(mask);
     summary->touches_border = touches || top == 0 || bottom == height - 1;
   }
   if (top < 0) return {};
-  // The simple polygon: top edge, down the left, bottom edge, up the right.
-  std::vector<Eigen::Vector2d> polygon;
-  polygon.reserve(left.size() + right.size() + 4);
-  polygon.emplace_back(top_first, top - 0.5);
-  polygon.insert(polygon.end(), left.begin(), left.end());
-  polygon.emplace_back(bottom_first, bottom + 0.5);
-  polygon.emplace_back(bottom_last, bottom + 0.5);
-  polygon.insert(polygon.end(), right.rbegin(), right.rend());
-  polygon.emplace_back(top_last, top - 0.5);
-  std::vector<Eigen::Vector2d> hull = MelkmanHull(polygon);
-  // Clipped edges lie on a border line of the image.
-  auto on_border = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a.x() == -0.5 && b.x() == -0.5) || (a.y() == -0.5 && b.y() == -0.5) ||
-           (a.x() == width - 0.5 && b.x() == width - 0.5) ||
-           (a.y() == height - 0.5 && b.y() == height - 0.5);
-  };
-  std::vector<bool> clipped(hull.size(), false);
-  for (size_t i = 0; i < hull.size(); ++i) {
-    clipped[i] = on_border(hull[i], hull[(i + 1) % hull.size()]);
+  const std::vector<Eigen::Vector2d> centres = SortedPointsHull(extents);
+  if (centres.size() < 3) return PixelSquaresHull(centres, width, height);
+  // The boundary model, on the wire's grid; rounding may leave repeated or collinear
+  // vertices, which the simple polygon's hull drops.
+  std::vector<Eigen::Vector2d> boundary = LatticeBoundaryPolygon(centres, width, height);
+  for (Eigen::Vector2d& v : boundary) {
+    v = (v / kHullVertexStep).array().round().matrix() * kHullVertexStep;
   }
-  return SilhouetteHull(std::move(hull), std::move(clipped));
+  std::vector<Eigen::Vector2d> hull = MelkmanHull(boundary);
+  if (hull.size() < 3) return PixelSquaresHull(centres, width, height);
+  return WithClippedEdges(std::move(hull), width, height);
 }
 
 }  // namespace silnet

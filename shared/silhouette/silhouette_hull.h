@@ -5,13 +5,13 @@
 // edge, so that vertex i touches every directed tangent line whose direction lies in
 // [angle(i-1), angle(i)].
 //
-// Geometry: pixel coordinates (shared/geometry/conventions.h). A foreground pixel centre
-// (x, y) means the silhouette boundary lies half a pixel beyond it, so the hull is built from
-// the row extents (x_left - 0.5, y), (x_right + 0.5, y) and the top and bottom rows pushed out
-// by half a pixel; it differs from the hull of the foreground pixel centres by at most
-// 0.5 px. Vertices are in positive orientation (signed area > 0 in pixel coordinates), so
-// edge angles increase around the hull and the silhouette lies to the left of every directed
-// edge.
+// Geometry: pixel coordinates (shared/geometry/conventions.h). A foreground pixel centre lies
+// inside the silhouette, whose boundary runs beyond the outermost centres by a gap that
+// depends on the direction (shared/silhouette/lattice_boundary.h): the hull from a mask is
+// the hull of the foreground centres with each edge moved out by its expected gap, 0.25 to
+// 0.5 px, clipped to the image. Vertices are in positive orientation (signed area > 0 in pixel
+// coordinates), so edge angles increase around the hull and the silhouette lies to the left of
+// every directed edge.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -19,6 +19,9 @@
 #include <vector>
 
 namespace silnet {
+
+// Hull vertices computed from masks lie on this grid, the wire encoding's resolution (px).
+inline constexpr double kHullVertexStep = 1.0 / 16.0;
 
 // Convex hull + clipped-edge bits + tangent table of one silhouette.
 class SilhouetteHull {
@@ -58,8 +61,10 @@ struct MaskSummary {
   bool touches_border = false;
 };
 
-// The hull of the nonzero pixels of a CV_8UC1 mask by a top-down scan of row extents
-// followed by Melkman's algorithm (linear in the image size). Edges on the image border,
+// The silhouette hull of the nonzero pixels of a CV_8UC1 mask: a top-down scan of row
+// extents, their hull by monotone chain (linear in the image size), the boundary model, and
+// vertices rounded to kHullVertexStep. A dot or a straight run of pixels gets the hull of its
+// pixel squares. Edges on the image border,
 // x = -0.5, x = width - 0.5, y = -0.5 or y = height - 0.5, are marked clipped. An empty mask
 // gives an empty hull. Throws CheckError for a mask of another type.
 SilhouetteHull ComputeSilhouetteHull(const cv::Mat& mask, MaskSummary* summary = nullptr);
