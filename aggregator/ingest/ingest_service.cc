@@ -120,6 +120,23 @@ struct IngestService::Impl {
     if (has_contour && !store.HasContour(record.camera_id, record.session, record.frame_index)) {
       t.contour_due.emplace(record.frame_index, Clock::now());
     }
+    // A frame re-sent as dropped or unusable has no contour to wait for.
+    if (record.flags & (silnet_wire_FRAME_DROPPED | silnet_wire_FRAME_BAD_INPUT))
+      t.contour_due.erase(record.frame_index);
+  }
+
+  // Once the node's contour rate is known (its CameraInfo may arrive after the first
+  // frames), every frame held that should have a contour and has none is waited for.
+  void ScheduleMissingContours(Track& t) {
+    if (t.contour_every <= 0 || !t.any) return;
+    const auto every = static_cast<uint64_t>(t.contour_every);
+    const auto now = Clock::now();
+    for (const FrameRange& range : t.held.ranges()) {
+      for (uint64_t f = (range.first + every - 1) / every * every; f <= range.last; f += every) {
+        if (!store.HasContour(t.status.camera_id, t.status.session, f))
+          t.contour_due.emplace(f, now);
+      }
+    }
   }
 
   void OnContour(const FrameRecord& record) {
@@ -239,7 +256,10 @@ size_t IngestService::Poll(std::chrono::milliseconds wait) {
         s.store.AddCameraInfo(info);
         Impl::Track& t = s.TrackFor(info.camera_id);
         const auto every = info.parameters.find("contour_every");
-        if (every != info.parameters.end()) t.contour_every = std::atoi(every->second.c_str());
+        if (every == info.parameters.end()) return;
+        const int before = t.contour_every;
+        t.contour_every = std::atoi(every->second.c_str());
+        if (t.contour_every != before) s.ScheduleMissingContours(t);
       });
   handled +=
       s.status_reader->Take([&](const silnet_wire_NodeStatus& sample, const dds_sample_info_t&) {
@@ -266,6 +286,9 @@ std::vector<CameraIngestStatus> IngestService::Status() const {
       status.last_frame = t.held.max();
       for (const FrameRange& gap : t.held.Missing(0))
         status.missing += gap.last - gap.first + 1;
+      // Frames the node reports published beyond the newest one held.
+      if (t.status.node_published > t.held.max() + 1)
+        status.missing += t.status.node_published - t.held.max() - 1;
     }
     status.seconds_since_last = t.last_sample == Clock::time_point{}
                                     ? -1.0

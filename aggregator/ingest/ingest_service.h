@@ -34,7 +34,7 @@ struct CameraIngestStatus {
   uint32_t session = 0;      // newest session seen
   uint64_t frames_held = 0;  // hull frames of that session in the store
   uint64_t first_frame = 0, last_frame = 0;
-  uint64_t missing = 0;   // frame indices not (yet) held below the newest
+  uint64_t missing = 0;   // frames not (yet) held: below the newest, or published beyond it
   uint64_t received = 0;  // HullFrame samples received (all sessions)
   uint64_t contours = 0;  // Contour samples stored
   uint64_t duplicates = 0;
