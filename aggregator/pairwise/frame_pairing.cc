@@ -42,6 +42,7 @@ int MatchAtFrame(const EpipolarModel& model, const SilhouetteSequence& i,
     t.frame_i = frame_i;
     t.frame_j = ja->index;
     t.side = matches[m].side;
+    t.partner = matches[m].partner;
     t.x_j_a = ta.point[matches[m].partner];
     t.x_j_b = tb.point[matches[m].partner];
   }

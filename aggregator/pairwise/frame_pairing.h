@@ -20,7 +20,8 @@ struct TimedMatch {
   Eigen::Vector2d x_j_b;
   uint64_t frame_i = 0;
   uint64_t frame_j = 0;  // a
-  int side = 0;
+  int side = 0;          // which tangent of view i (OuterTangents index)
+  int partner = 0;       // which tangent of view j
 
   // The fraction of the way from frame a to a + 1 at time offset `offset`.
   double Fraction(double offset) const {

@@ -193,6 +193,12 @@ PairwiseJobResult RunPairsJob(const PairsJobConfig& config, Progress* progress) 
     spdlog::info("{}: {} frames, {} usable, {}x{} at {} fps", s.camera_id, s.frames.size(),
                  s.UsableCount(), s.width, s.height, s.fps);
   }
+  return RunPairsOnSequences(config, sequences, source, progress);
+}
+
+PairwiseJobResult RunPairsOnSequences(const PairsJobConfig& config,
+                                      const std::vector<SilhouetteSequence>& sequences,
+                                      SequenceSource source, Progress* progress) {
   std::filesystem::create_directories(config.output);
   if (progress != nullptr)
     progress->Restart("pairs", sequences.size() * (sequences.size() - 1) / 2);

@@ -65,4 +65,10 @@ struct PairsJobConfig {
 // Runs the job; throws InputError for unreadable input or unwritable output.
 PairwiseJobResult RunPairsJob(const PairsJobConfig& config, Progress* progress);
 
+// The job on sequences already loaded from config.input (`source` says what they came from,
+// for the overlays' background images).
+PairwiseJobResult RunPairsOnSequences(const PairsJobConfig& config,
+                                      const std::vector<SilhouetteSequence>& sequences,
+                                      SequenceSource source, Progress* progress);
+
 }  // namespace silnet::aggregator

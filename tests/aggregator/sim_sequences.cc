@@ -87,4 +87,17 @@ SimCapture MakeSegmentedSimCapture(const sim::CameraNetworkOptions& network,
       });
 }
 
+std::vector<CameraModel> UncalibratedCopies(const std::vector<CameraModel>& truth) {
+  std::vector<CameraModel> out;
+  for (const CameraModel& c : truth) {
+    CameraModel t;
+    t.id = c.id;
+    t.width = c.width;
+    t.height = c.height;
+    t.fps = c.fps;
+    out.push_back(t);
+  }
+  return out;
+}
+
 }  // namespace silnet::aggregator::testing

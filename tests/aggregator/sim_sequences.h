@@ -36,4 +36,7 @@ SimCapture MakeSimCapture(const sim::CameraNetworkOptions& network, const sim::S
 SimCapture MakeSegmentedSimCapture(const sim::CameraNetworkOptions& network,
                                    const sim::SceneOptions& scene, int frames);
 
+// The cameras as a calibration receives them: id, image size and frame rate only.
+std::vector<CameraModel> UncalibratedCopies(const std::vector<CameraModel>& truth);
+
 }  // namespace silnet::aggregator::testing

@@ -1,0 +1,88 @@
+#pragma once
+// What the network calibration produces (thesis chapter 3): the calibrated and synchronised
+// cameras, the frontier points they were fitted to, what happened to each camera and each
+// pairwise estimate, and figures for the report.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "aggregator/pairwise/epipolar_tangent_ransac.h"
+#include "aggregator/sync/network_sync.h"
+#include "shared/geometry/camera_model.h"
+
+namespace silnet::aggregator {
+
+// One observation of a frontier point: the camera (index into NetworkCalibration::cameras),
+// the observed pixel (as measured, distortion included) and its reprojection error.
+struct FrontierObservation {
+  size_t camera = 0;
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+  double error_px = 0.0;
+};
+
+// A triangulated frontier point: a two-view correspondence of one camera pair (thesis 3.2:
+// frontier points do not extend to more views), in world coordinates.
+struct FrontierPoint {
+  Eigen::Vector3d X = Eigen::Vector3d::Zero();
+  FrontierObservation views[2];
+  uint64_t frame = 0;  // frame of the first view's camera
+  bool inlier = true;  // false if the robust loss discarded it (error above the cut-off)
+};
+
+// What happened to one camera.
+struct CameraPlacement {
+  bool placed = false;
+  std::string reason;       // why it was not placed; empty when placed
+  std::string added_by;     // how: "initial triplet", "linked to cam01 and cam04", ...
+  size_t observations = 0;  // frontier observations in the final bundle adjustment
+  double rms_px = 0.0;      // reprojection error over its inlier observations
+  double median_px = 0.0;
+};
+
+// A pairwise estimate checked against the final cameras (closing the loop).
+struct PairCheck {
+  size_t i = 0, j = 0;
+  PairStatus pairwise_status = PairStatus::kFailed;
+  std::string pairwise_reason;
+  bool used = false;  // the calibration used this pair's correspondences
+  Eigen::Matrix3d F_derived = Eigen::Matrix3d::Zero();  // from the final cameras
+  // How far the estimate's inlier correspondences lie from the derived epipolar lines
+  // (median symmetric distance); -1 without an estimate.
+  double distance_px = -1.0;
+  bool corrected = false;  // the derived F replaces a wrong or missing estimate
+  std::string note;        // what the check found, for the report
+};
+
+// One stage of the calibration, for the report and the log.
+struct CalibrationStage {
+  std::string name;  // "projective reconstruction", "self-calibration", ...
+  double rms_px = 0.0;
+  double seconds = 0.0;
+  std::string detail;
+};
+
+// The calibrated, synchronised network.
+struct NetworkCalibration {
+  // Every input camera in input order: id, image size and fps always; K, dist, R, t (world
+  // frame of the reconstruction, arbitrary similarity) and time_offset when placed.
+  std::vector<CameraModel> cameras;
+  std::vector<CameraPlacement> placement;  // parallel to cameras
+  std::vector<FrontierPoint> points;
+  SyncResult sync;
+  std::vector<PairCheck> pairs;
+  std::vector<CalibrationStage> stages;
+  double rms_px = 0.0;  // final reprojection error over inlier observations
+  double median_px = 0.0;
+  bool known_intrinsics = false;  // intrinsics given by the user (thesis 8.2.1)
+
+  size_t PlacedCount() const {
+    size_t n = 0;
+    for (const CameraPlacement& p : placement)
+      n += p.placed ? 1 : 0;
+    return n;
+  }
+};
+
+}  // namespace silnet::aggregator

@@ -1,0 +1,91 @@
+#include "aggregator/calibration/ground_truth_comparison.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+
+#include "shared/util/check.h"
+
+namespace silnet::aggregator {
+namespace {
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+double Max(const std::vector<double>& values) {
+  return values.empty() ? 0.0 : *std::max_element(values.begin(), values.end());
+}
+
+}  // namespace
+
+CalibrationErrors CompareWithGroundTruth(const std::vector<CameraModel>& estimated,
+                                         const std::vector<bool>& placed,
+                                         const std::vector<CameraModel>& truth) {
+  std::vector<std::pair<const CameraModel*, const CameraModel*>> matched;
+  for (size_t c = 0; c < estimated.size(); ++c) {
+    if (c >= placed.size() || !placed[c]) continue;
+    const auto t = std::find_if(truth.begin(), truth.end(),
+                                [&](const CameraModel& m) { return m.id == estimated[c].id; });
+    if (t != truth.end()) matched.emplace_back(&estimated[c], &*t);
+  }
+  if (matched.size() < 3)
+    throw InputError("comparing with ground truth needs at least 3 calibrated cameras it knows");
+  const auto n = static_cast<Eigen::Index>(matched.size());
+  Eigen::Matrix3Xd src(3, n), dst(3, n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    src.col(k) = matched[static_cast<size_t>(k)].first->Center();
+    dst.col(k) = matched[static_cast<size_t>(k)].second->Center();
+  }
+  const Eigen::Matrix4d similarity = Eigen::umeyama(src, dst, true);
+  const Eigen::Matrix3d sq = similarity.topLeftCorner<3, 3>();
+  const double scale = std::cbrt(sq.determinant());
+  const Eigen::Matrix3d q = sq / scale;
+
+  CalibrationErrors e;
+  for (Eigen::Index a = 0; a < n; ++a) {
+    for (Eigen::Index b = a + 1; b < n; ++b)
+      e.rig_diameter = std::max(e.rig_diameter, (dst.col(a) - dst.col(b)).norm());
+  }
+  double offset_shift = 0.0;
+  for (const auto& [est, tru] : matched)
+    offset_shift += est->time_offset - tru->time_offset;
+  offset_shift /= static_cast<double>(matched.size());
+
+  std::vector<double> focal, rotation, centre, offset, k1;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const CameraModel& est = *matched[static_cast<size_t>(k)].first;
+    const CameraModel& tru = *matched[static_cast<size_t>(k)].second;
+    CameraError c;
+    c.id = est.id;
+    c.focal_rel =
+        std::abs(0.5 * (est.K(0, 0) + est.K(1, 1)) / (0.5 * (tru.K(0, 0) + tru.K(1, 1))) - 1.0);
+    const Eigen::Matrix3d aligned = est.R * q.transpose();
+    c.rotation_deg = Eigen::AngleAxisd(aligned * tru.R.transpose()).angle() * 180.0 / EIGEN_PI;
+    const Eigen::Vector3d centre_aligned = (similarity * src.col(k).homogeneous()).head<3>();
+    c.center_rel = (centre_aligned - dst.col(k)).norm() / std::max(e.rig_diameter, 1e-12);
+    c.principal_px = (est.K.block<2, 1>(0, 2) - tru.K.block<2, 1>(0, 2)).norm();
+    c.k1_error = std::abs(est.dist[0] - tru.dist[0]);
+    c.offset_frames = std::abs(est.time_offset - tru.time_offset - offset_shift);
+    focal.push_back(c.focal_rel);
+    rotation.push_back(c.rotation_deg);
+    centre.push_back(c.center_rel);
+    offset.push_back(c.offset_frames);
+    k1.push_back(c.k1_error);
+    e.cameras.push_back(c);
+  }
+  e.median_focal_rel = Median(focal);
+  e.max_focal_rel = Max(focal);
+  e.median_rotation_deg = Median(rotation);
+  e.max_rotation_deg = Max(rotation);
+  e.median_center_rel = Median(centre);
+  e.max_center_rel = Max(centre);
+  e.median_offset_frames = Median(offset);
+  e.max_offset_frames = Max(offset);
+  e.median_k1_error = Median(k1);
+  return e;
+}
+
+}  // namespace silnet::aggregator

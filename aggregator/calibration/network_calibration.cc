@@ -1,0 +1,329 @@
+#include "aggregator/calibration/network_calibration.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+
+#include "aggregator/calibration/frontier_rematching.h"
+#include "aggregator/calibration/metric_scene_setup.h"
+#include "aggregator/calibration/pair_checks.h"
+#include "aggregator/calibration/self_calibration.h"
+#include "shared/geometry/epipolar.h"
+#include "shared/util/check.h"
+#include "shared/util/log.h"
+#include "shared/util/parallel_for.h"
+
+namespace silnet::aggregator {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+size_t IndexOf(const std::vector<CameraModel>& cameras, const std::string& id) {
+  return static_cast<size_t>(
+      std::find_if(cameras.begin(), cameras.end(), [&](const auto& c) { return c.id == id; }) -
+      cameras.begin());
+}
+
+std::vector<OffsetEdge> OffsetEdges(const std::vector<CameraModel>& cameras,
+                                    const std::vector<PairwiseResult>& pairs) {
+  std::vector<OffsetEdge> edges;
+  for (const PairwiseResult& p : pairs) {
+    const size_t i = IndexOf(cameras, p.camera_i), j = IndexOf(cameras, p.camera_j);
+    if (p.status != PairStatus::kOk || i >= cameras.size() || j >= cameras.size() || i == j)
+      continue;
+    edges.push_back({i, j, p.offset, std::max(p.offset_sigma, 1e-3)});
+  }
+  return edges;
+}
+
+// Inlier spread score of correspondences (thesis 3.2.3).
+double SpreadScore(const std::vector<Correspondence>& matches) {
+  if (matches.empty()) return 0.0;
+  Eigen::Vector2d mean_i = Eigen::Vector2d::Zero(), mean_j = Eigen::Vector2d::Zero();
+  for (const Correspondence& c : matches) {
+    mean_i += c.x_i;
+    mean_j += c.x_j;
+  }
+  mean_i /= static_cast<double>(matches.size());
+  mean_j /= static_cast<double>(matches.size());
+  double s = 0.0;
+  for (const Correspondence& c : matches)
+    s += (c.x_i - mean_i).squaredNorm() + (c.x_j - mean_j).squaredNorm();
+  return s;
+}
+
+// The stages after the network has a metric starting point.
+class MetricRefinement {
+ public:
+  MetricRefinement(const CalibrationOptions& options, NetworkCalibration* out)
+      : options_(options), out_(out) {}
+
+  // Euclidean bundle adjustment on `graph`'s correspondences: first on a sample (the
+  // cameras may still be far off), then on at most final_tracks_per_link of each link.
+  void Adjust(const ViewGraph& graph, MetricScene* scene, const std::string& stage) {
+    AdjustOn(graph, scene, stage + " (sample)", options_.projective.tracks_per_link);
+    AdjustOn(graph, scene, stage, options_.final_tracks_per_link);
+  }
+
+ private:
+  // One adjustment on at most `per_link` correspondences of each link; radial terms only
+  // once the cameras have settled without them.
+  void AdjustOn(const ViewGraph& graph, MetricScene* scene, const std::string& stage,
+                size_t per_link) {
+    scene->tracks = CollectTracks(graph, scene->present, per_link);
+    scene->Triangulate();
+    IntrinsicsModel model = options_.intrinsics;
+    model.fixed = options_.known_intrinsics;
+    const int radial = model.radial_terms;
+    if (radial > 0 && !model.fixed && !distortion_started_) {
+      model.radial_terms = 0;
+      Record(stage, AdjustEuclidean(scene, model, options_.bundle), "without distortion");
+      model.radial_terms = radial;
+      distortion_started_ = true;
+      scene->inlier.assign(scene->tracks.size(), true);
+      Record(stage + " with radial distortion", AdjustEuclidean(scene, model, options_.bundle),
+             fmt::format("k1{}", radial > 1 ? ", k2" : ""));
+      return;
+    }
+    Record(stage, AdjustEuclidean(scene, model, options_.bundle), "");
+  }
+
+  void Record(const std::string& name, const BundleSummary& s, const std::string& detail) {
+    out_->stages.push_back(
+        {name, s.rms_px, s.seconds,
+         fmt::format("{} observations, median {:.3f} px, {} iterations{}{}", s.observations,
+                     s.median_px, s.iterations, detail.empty() ? "" : "; ", detail)});
+    spdlog::info("{}: rms {:.3f} px, median {:.3f} px over {} observations ({:.1f} s)", name,
+                 s.rms_px, s.median_px, s.observations, s.seconds);
+  }
+  const CalibrationOptions& options_;
+  NetworkCalibration* out_;
+  bool distortion_started_ = false;
+};
+
+// The view graph of every calibrated pair, matched afresh under the calibration.
+ViewGraph RematchedGraph(const MetricScene& scene,
+                         const std::vector<SilhouetteSequence>& undistorted,
+                         const SyncResult& sync) {
+  const size_t n = scene.cameras.size();
+  std::vector<std::pair<size_t, size_t>> pairs;
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t j = i + 1; j < n; ++j) {
+      if (scene.present[i] && scene.present[j] && !undistorted[i].frames.empty() &&
+          !undistorted[j].frames.empty())
+        pairs.emplace_back(i, j);
+    }
+  }
+  std::vector<ViewLink> links(pairs.size());
+  ParallelFor(pairs.size(), 0, [&](size_t p) {
+    const auto [i, j] = pairs[p];
+    ViewLink& link = links[p];
+    link.i = i;
+    link.j = j;
+    link.F = FundamentalFromCameras(scene.cameras[i], scene.cameras[j]);
+    link.matches = RematchFrontierPoints(undistorted[i], undistorted[j], scene.cameras[i],
+                                         scene.cameras[j], sync.offsets[i] - sync.offsets[j]);
+    link.spread = SpreadScore(link.matches);
+  });
+  ViewGraph graph(n);
+  for (ViewLink& link : links) {
+    if (!link.matches.empty()) graph.Add(std::move(link));
+  }
+  return graph;
+}
+
+// Per-camera errors, frontier points and the calibrated cameras, from the final scene.
+void FillResult(const MetricScene& scene, const SyncResult& sync, NetworkCalibration* out) {
+  const size_t n = scene.cameras.size();
+  std::vector<std::vector<double>> errors(n);
+  std::vector<double> all;
+  out->points.clear();
+  for (size_t k = 0; k < scene.tracks.size(); ++k) {
+    const TwoViewTrack& t = scene.tracks[k];
+    FrontierPoint point;
+    point.X = scene.points[k];
+    point.frame = t.frame;
+    point.inlier = scene.inlier[k];
+    for (int view = 0; view < 2; ++view) {
+      FrontierObservation& o = point.views[view];
+      o.camera = view == 0 ? t.camera_a : t.camera_b;
+      o.pixel = view == 0 ? t.x_a : t.x_b;
+      o.error_px = scene.ViewError(k, view);
+      if (point.inlier) {
+        errors[o.camera].push_back(o.error_px);
+        all.push_back(o.error_px);
+      }
+    }
+    out->points.push_back(point);
+  }
+  const auto rms = [](const std::vector<double>& e) {
+    double s = 0.0;
+    for (double x : e)
+      s += x * x;
+    return e.empty() ? 0.0 : std::sqrt(s / static_cast<double>(e.size()));
+  };
+  for (size_t c = 0; c < n; ++c) {
+    if (!scene.present[c]) continue;
+    CameraModel& camera = out->cameras[c];
+    const CameraModel& fitted = scene.cameras[c];
+    camera.K = fitted.K;
+    camera.dist = fitted.dist;
+    camera.R = fitted.R;
+    camera.t = fitted.t;
+    camera.time_offset = sync.synchronised[c] ? sync.offsets[c] : 0.0;
+    CameraPlacement& p = out->placement[c];
+    p.placed = true;
+    p.observations = errors[c].size();
+    p.rms_px = rms(errors[c]);
+    p.median_px = Median(errors[c]);
+  }
+  out->rms_px = rms(all);
+  out->median_px = Median(all);
+}
+
+}  // namespace
+
+std::string CalibrationOptions::Validate() const {
+  if (intrinsics.radial_terms < 0 || intrinsics.radial_terms > 2)
+    return "radial distortion terms must be 0, 1 or 2";
+  if (!(rig_radius > 0.0)) return "the rig radius must be positive";
+  if (rematch_rounds < 0) return "re-matching rounds must not be negative";
+  if (intrinsics.principal_point_sigma_px < 0.0 || !(intrinsics.observation_sigma_px > 0.0))
+    return "the principal point prior needs a non-negative sigma and a positive observation sigma";
+  if (!(bundle.loss_px > 0.0) || bundle.max_iterations < 1)
+    return "bundle adjustment needs a positive loss scale and at least one iteration";
+  if (!(corrected_px > 0.0)) return "the correction threshold must be positive";
+  return "";
+}
+
+NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
+                                    const std::vector<PairwiseResult>& pairs,
+                                    const std::vector<SilhouetteSequence>* sequences,
+                                    const CalibrationOptions& options, Progress* progress) {
+  if (const std::string why = options.Validate(); !why.empty())
+    throw InputError("calibration options: " + why);
+  const size_t n = cameras.size();
+  NetworkCalibration out;
+  out.cameras = cameras;
+  out.placement.assign(n, {});
+  out.known_intrinsics = options.known_intrinsics;
+  std::vector<std::string> ids;
+  for (const CameraModel& c : cameras)
+    ids.push_back(c.id);
+
+  auto start = Clock::now();
+  out.sync = SynchroniseNetwork(n, OffsetEdges(cameras, pairs), options.sync);
+  out.stages.push_back({"synchronisation", 0.0, SecondsSince(start),
+                        fmt::format("rms residual {:.3f} frames ({:.2f} sigma)",
+                                    out.sync.rms_residual, out.sync.rms_normalised)});
+
+  const ViewGraph graph = BuildViewGraph(ids, pairs);
+  std::optional<MetricScene> scene;
+  std::vector<std::string> added_by(n), reasons(n);
+  start = Clock::now();
+  if (options.known_intrinsics) {
+    PoseChain chain = ChainKnownIntrinsics(graph, cameras, options.known, progress);
+    out.stages.push_back(
+        {"poses from essential matrices", chain.last_bundle.rms_px, SecondsSince(start), ""});
+    added_by = chain.added_by;
+    reasons = chain.reasons;
+    if (std::count(chain.scene.present.begin(), chain.scene.present.end(), true) >= 2)
+      scene = std::move(chain.scene);
+  } else {
+    ProjectiveReconstruction projective =
+        ReconstructProjective(graph, cameras, options.projective, progress);
+    out.stages.push_back({"projective reconstruction", projective.last_bundle.rms_px,
+                          SecondsSince(start), fmt::format("{} cameras", projective.placed())});
+    added_by = projective.added_by;
+    reasons = projective.reasons;
+    if (projective.placed() >= 3) {
+      std::string why;
+      start = Clock::now();
+      const auto upgrade =
+          SelfCalibrateLinear(projective.scene.cameras, projective.scene.present, &why);
+      if (upgrade) scene = UpgradeToMetric(projective.scene, *upgrade, cameras, &why);
+      out.stages.push_back({"self-calibration", 0.0, SecondsSince(start), why});
+      if (!scene) {
+        for (size_t c = 0; c < n; ++c) {
+          if (projective.scene.present[c]) reasons[c] = "self-calibration failed: " + why;
+        }
+      }
+    }
+  }
+  for (size_t c = 0; c < n; ++c) {
+    out.placement[c].added_by = added_by[c];
+    out.placement[c].reason = reasons[c];
+  }
+  std::vector<bool> used(pairs.size(), false);
+  if (!scene) {
+    for (size_t c = 0; c < n; ++c) {
+      if (out.placement[c].reason.empty())
+        out.placement[c].reason = "the network could not be calibrated";
+      out.placement[c].added_by.clear();
+    }
+    out.pairs = CheckPairs(out.cameras, out.placement, pairs, used, options.corrected_px);
+    return out;
+  }
+
+  if (options.intrinsics.fix_principal_point && !options.known_intrinsics) {
+    // A principal point held fixed is the image centre, not the self-calibration's guess.
+    for (size_t c = 0; c < n; ++c) {
+      if (!scene->present[c]) continue;
+      scene->cameras[c].K(0, 2) = 0.5 * (scene->cameras[c].width - 1);
+      scene->cameras[c].K(1, 2) = 0.5 * (scene->cameras[c].height - 1);
+    }
+  }
+  if (progress)
+    progress->Restart("bundle adjustment", 1 + static_cast<size_t>(options.rematch_rounds));
+  MetricRefinement refine(options, &out);
+  refine.Adjust(graph, &*scene, "Euclidean bundle adjustment");
+  if (progress) progress->Advance();
+  for (size_t p = 0; p < pairs.size(); ++p) {
+    const ViewLink* link =
+        graph.Find(IndexOf(cameras, pairs[p].camera_i), IndexOf(cameras, pairs[p].camera_j));
+    used[p] = link != nullptr && scene->present[link->i] && scene->present[link->j];
+  }
+  if (sequences != nullptr) {
+    for (int round = 0; round < options.rematch_rounds && !(progress && progress->cancelled());
+         ++round) {
+      start = Clock::now();
+      std::vector<SilhouetteSequence> undistorted(n);
+      ParallelFor(n, 0, [&](size_t c) {
+        if (!scene->present[c]) return;
+        for (const SilhouetteSequence& s : *sequences) {
+          if (s.camera_id == cameras[c].id)
+            undistorted[c] = UndistortSequence(s, scene->cameras[c]);
+        }
+      });
+      const ViewGraph rematched = RematchedGraph(*scene, undistorted, out.sync);
+      spdlog::info("re-matched frontier points of {} pairs ({:.1f} s)", rematched.links().size(),
+                   SecondsSince(start));
+      refine.Adjust(rematched, &*scene, fmt::format("re-matched bundle adjustment {}", round + 1));
+      for (size_t p = 0; p < pairs.size(); ++p) {
+        used[p] = used[p] || rematched.Find(IndexOf(cameras, pairs[p].camera_i),
+                                            IndexOf(cameras, pairs[p].camera_j)) != nullptr;
+      }
+      if (progress) progress->Advance();
+    }
+  }
+  NormalizeGauge(&*scene, options.rig_radius);
+  FillResult(*scene, out.sync, &out);
+  out.pairs = CheckPairs(out.cameras, out.placement, pairs, used, options.corrected_px);
+  if (progress) progress->Finish();
+  return out;
+}
+
+}  // namespace silnet::aggregator

@@ -1,0 +1,56 @@
+#pragma once
+// Calibrating and synchronising a camera network from its pairwise epipolar geometries and
+// offsets (thesis chapter 3), stage by stage:
+//   synchronisation   offsets graph, cycle test, weighted least squares (3.3)
+//   projective        view graph, best triplet, cameras added through two links, projective
+//                     bundle adjustment after each (3.2.1-3.2.4)
+//   metric            linear self-calibration, then Euclidean bundle adjustment (3.2.5);
+//                     with known intrinsics instead: poses from essential matrices (8.2.1)
+//   distortion        radial distortion k1, k2 in the bundle adjustment, if asked
+//   re-matching       frontier points of every calibrated pair recomputed from the cameras
+//                     and offsets on undistorted silhouettes, then a last adjustment
+//   closing the loop  every pairwise estimate checked against the final cameras
+// Expected failures (a camera that cannot be placed, a self-calibration that fails) are
+// results with reasons, not exceptions.
+
+#include <string>
+#include <vector>
+
+#include "aggregator/calibration/calibration_result.h"
+#include "aggregator/calibration/euclidean_bundle_adjustment.h"
+#include "aggregator/calibration/known_intrinsics.h"
+#include "aggregator/calibration/projective_reconstruction.h"
+#include "aggregator/pairwise/silhouette_sequence.h"
+#include "aggregator/sync/network_sync.h"
+#include "shared/util/progress.h"
+
+namespace silnet::aggregator {
+
+// Settings of the network calibration; defaults suit a rig of ordinary video cameras.
+struct CalibrationOptions {
+  IntrinsicsModel intrinsics;     // what the Euclidean bundle adjustment estimates
+  bool known_intrinsics = false;  // the input cameras carry trusted K and distortion
+  ProjectiveOptions projective;
+  KnownIntrinsicsOptions known;
+  SyncOptions sync;
+  BundleOptions bundle;                 // the Euclidean adjustments
+  size_t final_tracks_per_link = 1500;  // correspondences per pair in the metric stages
+  int rematch_rounds = 1;               // re-matching rounds when silhouettes are given
+  double rig_radius = 1.0;    // world scale: mean distance of the cameras from their centroid
+  double corrected_px = 1.0;  // pairwise estimates whose matches lie further off are "corrected"
+
+  // A readable reason if the options are unusable, empty if they are fine.
+  std::string Validate() const;
+};
+
+// Calibrates `cameras` (id, image size, fps; with known_intrinsics also K and dist) from
+// `pairs` (the pairwise job's results, cameras named by id). `sequences`, when given, are the
+// cameras' silhouettes (matched by camera id) for the re-matching stage. Throws InputError
+// for invalid options.
+NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
+                                    const std::vector<PairwiseResult>& pairs,
+                                    const std::vector<SilhouetteSequence>* sequences,
+                                    const CalibrationOptions& options,
+                                    Progress* progress = nullptr);
+
+}  // namespace silnet::aggregator

@@ -1,0 +1,75 @@
+#include "aggregator/cli/cli_support.h"
+
+#include <signal.h>
+
+#include <chrono>
+
+#include "shared/util/check.h"
+
+namespace silnet::aggregator::cli {
+namespace {
+
+std::atomic<bool> g_stop{false};
+
+}  // namespace
+
+void WatchSignals() {
+  static sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  std::thread([] {
+    int received = 0;
+    sigwait(&signals, &received);
+    g_stop = true;
+  }).detach();
+}
+
+bool StopRequested() {
+  return g_stop.load();
+}
+
+CancelOnSignal::CancelOnSignal(Progress* progress)
+    : watcher_([this, progress] {
+        while (!done_ && !g_stop)
+          std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        if (g_stop) progress->Cancel();
+      }) {}
+
+CancelOnSignal::~CancelOnSignal() {
+  done_ = true;
+  watcher_.join();
+}
+
+void PairwiseArgs::AddTo(CLI::App* command) {
+  command->add_flag("--synchronized", synchronized, "the cameras share a clock (offset 0)");
+  command->add_option("--max-offset", max_offset, "search offsets within +-this many frames")
+      ->capture_default_str();
+  command->add_flag("--use-timestamps", use_timestamps,
+                    "narrow the offset search with capture timestamps");
+  command->add_option("--timestamp-sigma", timestamp_sigma, "frames the timestamps may be off")
+      ->capture_default_str();
+  command->add_option("--threads", threads, "pairs estimated at once (0 = all cores)")
+      ->capture_default_str();
+  command->add_option("--seed", seed, "random seed (same seed, same result)")
+      ->capture_default_str();
+  command->add_option("--iterations", iterations, "RANSAC iterations per pair at most")
+      ->capture_default_str();
+}
+
+PairwiseJobOptions PairwiseArgs::Options() const {
+  PairwiseJobOptions options;
+  options.threads = threads;
+  options.use_timestamps = use_timestamps;
+  options.timestamp_sigma = timestamp_sigma;
+  options.pair.synchronized = synchronized;
+  options.pair.offset_min = -max_offset;
+  options.pair.offset_max = max_offset;
+  options.pair.seed = seed;
+  options.pair.max_iterations = iterations;
+  if (const std::string reason = options.pair.Validate(); !reason.empty()) throw InputError(reason);
+  return options;
+}
+
+}  // namespace silnet::aggregator::cli

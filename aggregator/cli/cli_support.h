@@ -1,0 +1,49 @@
+#pragma once
+// What the aggregator's subcommands share: signal handling (SIGINT/SIGTERM stop a running
+// job cleanly) and the pairwise estimation options, which `pairs` and `calibrate` both take.
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <string>
+#include <thread>
+
+#include "aggregator/pairwise/pairwise_job.h"
+#include "shared/util/progress.h"
+
+namespace silnet::aggregator::cli {
+
+// Routes SIGINT and SIGTERM to a watcher thread (other threads have them blocked); call once
+// before starting threads.
+void WatchSignals();
+// True once SIGINT or SIGTERM arrived.
+bool StopRequested();
+
+// Cancels `progress` when SIGINT/SIGTERM arrives, while the job runs.
+class CancelOnSignal {
+ public:
+  explicit CancelOnSignal(Progress* progress);
+  ~CancelOnSignal();
+  CancelOnSignal(const CancelOnSignal&) = delete;
+  CancelOnSignal& operator=(const CancelOnSignal&) = delete;
+
+ private:
+  std::atomic<bool> done_{false};
+  std::thread watcher_;
+};
+
+// Command-line form of the pairwise options.
+struct PairwiseArgs {
+  bool synchronized = false, use_timestamps = false;
+  double max_offset = 35.0, timestamp_sigma = 2.0;
+  int threads = 0;
+  uint64_t seed = 1;
+  size_t iterations = 1000000;
+
+  // Adds --synchronized, --max-offset, --use-timestamps, --timestamp-sigma, --threads, --seed
+  // and --iterations to `command`.
+  void AddTo(CLI::App* command);
+  // The job options; throws InputError for invalid values.
+  PairwiseJobOptions Options() const;
+};
+
+}  // namespace silnet::aggregator::cli

@@ -1,0 +1,20 @@
+#pragma once
+// silnet-aggregator's subcommands: each adds its options to the CLI app and returns the
+// function that runs it once parsed (exit code: 0 ok, 2 user error, 130 cancelled).
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace silnet::aggregator::cli {
+
+// A registered subcommand.
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+
+Command AddIngestCommand(CLI::App& app);
+Command AddPairsCommand(CLI::App& app);
+Command AddCalibrateCommand(CLI::App& app);
+
+}  // namespace silnet::aggregator::cli
