@@ -1,0 +1,113 @@
+#include "aggregator/hulls/hull_reprojection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "shared/util/check.h"
+
+namespace silnet::aggregator {
+namespace {
+
+// Twice the signed area of (a, b, p); >= 0 when p is left of a -> b (image axes).
+double EdgeFunction(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
+  return (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x());
+}
+
+// Sets every pixel whose centre lies in the closed triangle (either winding).
+void FillTriangle(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                  cv::Mat* image) {
+  const double area = EdgeFunction(a, b, c);
+  if (area == 0.0) return;
+  const double sign = area > 0 ? 1.0 : -1.0;
+  const int x0 = std::max(0, static_cast<int>(std::ceil(std::min({a.x(), b.x(), c.x()}))));
+  const int x1 =
+      std::min(image->cols - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}))));
+  const int y0 = std::max(0, static_cast<int>(std::ceil(std::min({a.y(), b.y(), c.y()}))));
+  const int y1 =
+      std::min(image->rows - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}))));
+  for (int y = y0; y <= y1; ++y) {
+    uint8_t* row = image->ptr<uint8_t>(y);
+    for (int x = x0; x <= x1; ++x) {
+      const Eigen::Vector2d p(x, y);
+      if (sign * EdgeFunction(a, b, p) >= 0 && sign * EdgeFunction(b, c, p) >= 0 &&
+          sign * EdgeFunction(c, a, p) >= 0) {
+        row[x] = 255;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+cv::Mat RenderMeshSilhouette(const TriangleMesh& mesh, const CameraModel& camera) {
+  cv::Mat image = cv::Mat::zeros(camera.height, camera.width, CV_8UC1);
+  std::vector<Eigen::Vector2d> pixels(mesh.vertices.size());
+  std::vector<uint8_t> in_front(mesh.vertices.size(), 0);
+  for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const auto p = camera.Project(mesh.vertices[v].cast<double>());
+    if (!p) continue;
+    pixels[v] = *p;
+    in_front[v] = 1;
+  }
+  for (const auto& t : mesh.triangles) {
+    const auto a = static_cast<size_t>(t[0]), b = static_cast<size_t>(t[1]);
+    const auto c = static_cast<size_t>(t[2]);
+    if (!in_front[a] || !in_front[b] || !in_front[c]) continue;
+    FillTriangle(pixels[a], pixels[b], pixels[c], &image);
+  }
+  return image;
+}
+
+ViewReprojection CompareWithSilhouette(const cv::Mat& rendered, const cv::Mat& silhouette) {
+  SILNET_CHECK(rendered.type() == CV_8UC1 && silhouette.type() == CV_8UC1);
+  SILNET_CHECK(rendered.size() == silhouette.size());
+  ViewReprojection result;
+  const cv::Mat covered = rendered != 0, inside = silhouette != 0;
+  result.silhouette_pixels = static_cast<size_t>(cv::countNonZero(inside));
+  result.missed_pixels = static_cast<size_t>(cv::countNonZero(inside & ~covered));
+  result.spurious_pixels = static_cast<size_t>(cv::countNonZero(covered & ~inside));
+  if (result.silhouette_pixels > 0) {
+    const auto n = static_cast<double>(result.silhouette_pixels);
+    result.missed_fraction = static_cast<double>(result.missed_pixels) / n;
+    result.spurious_fraction = static_cast<double>(result.spurious_pixels) / n;
+  }
+  return result;
+}
+
+std::vector<ViewReprojection> MeasureHullReprojection(const TriangleMesh& mesh,
+                                                      const std::vector<CameraModel>& cameras,
+                                                      const std::vector<cv::Mat>& silhouettes) {
+  SILNET_CHECK(cameras.size() == silhouettes.size());
+  std::vector<ViewReprojection> views;
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    views.push_back(CompareWithSilhouette(RenderMeshSilhouette(mesh, cameras[c]), silhouettes[c]));
+    views.back().camera_id = cameras[c].id;
+  }
+  return views;
+}
+
+cv::Mat ReprojectionOverlay(const cv::Mat& rendered, const cv::Mat& silhouette) {
+  SILNET_CHECK(rendered.type() == CV_8UC1 && silhouette.type() == CV_8UC1);
+  SILNET_CHECK(rendered.size() == silhouette.size());
+  cv::Mat overlay = cv::Mat::zeros(rendered.size(), CV_8UC3);
+  const cv::Mat covered = rendered != 0, inside = silhouette != 0;
+  overlay.setTo(cv::Scalar(255, 255, 255), covered & inside);
+  overlay.setTo(cv::Scalar(0, 0, 255), inside & ~covered);  // missed: red (BGR)
+  overlay.setTo(cv::Scalar(255, 0, 0), covered & ~inside);  // spurious: blue
+  return overlay;
+}
+
+void WriteReprojectionOverlay(const std::string& path, const cv::Mat& rendered,
+                              const cv::Mat& silhouette) {
+  bool written = false;
+  try {
+    written = cv::imwrite(path, ReprojectionOverlay(rendered, silhouette));
+  } catch (const cv::Exception& e) {
+    throw InputError("cannot write " + path + ": " + e.what());
+  }
+  if (!written) throw InputError("cannot write " + path);
+}
+
+}  // namespace silnet::aggregator

@@ -1,0 +1,48 @@
+#pragma once
+// How well a hull explains its silhouettes: the hull's surface mesh is rendered into each
+// view and compared with the silhouette pixel by pixel (thesis 4.2, the consistency check of
+// a visual hull). A rendered pixel is covered iff its centre lies inside (or on the edge
+// of) a projected triangle; triangles are projected through the camera's distortion at
+// their vertices and drawn with straight edges.
+
+#include <opencv2/core/mat.hpp>
+#include <string>
+#include <vector>
+
+#include "aggregator/hulls/triangle_mesh.h"
+#include "shared/geometry/camera_model.h"
+
+namespace silnet::aggregator {
+
+// The comparison of one view.
+struct ViewReprojection {
+  std::string camera_id;
+  size_t silhouette_pixels = 0;  // non-zero pixels of the silhouette
+  size_t missed_pixels = 0;      // silhouette pixels the hull does not cover
+  size_t spurious_pixels = 0;    // covered pixels outside the silhouette
+  double missed_fraction = 0;    // missed / silhouette pixels (0 if the silhouette is empty)
+  double spurious_fraction = 0;  // spurious / silhouette pixels (0 if the silhouette is empty)
+};
+
+// CV_8UC1 image of the camera's size, 255 where the mesh covers the pixel centre.
+// Triangles with a vertex behind the camera are skipped.
+cv::Mat RenderMeshSilhouette(const TriangleMesh& mesh, const CameraModel& camera);
+
+// Compares a rendered coverage image with a silhouette (both CV_8UC1, same size).
+ViewReprojection CompareWithSilhouette(const cv::Mat& rendered, const cv::Mat& silhouette);
+
+// Renders `mesh` into every camera and compares it with that camera's silhouette.
+std::vector<ViewReprojection> MeasureHullReprojection(const TriangleMesh& mesh,
+                                                      const std::vector<CameraModel>& cameras,
+                                                      const std::vector<cv::Mat>& silhouettes);
+
+// BGR picture of the comparison: silhouette pixels the hull covers in white, missed
+// silhouette pixels in red, spurious covered pixels in blue, background black.
+cv::Mat ReprojectionOverlay(const cv::Mat& rendered, const cv::Mat& silhouette);
+
+// Writes ReprojectionOverlay as an image file (format from the extension, e.g. ".png").
+// Throws InputError if it cannot be written.
+void WriteReprojectionOverlay(const std::string& path, const cv::Mat& rendered,
+                              const cv::Mat& silhouette);
+
+}  // namespace silnet::aggregator

@@ -1,0 +1,89 @@
+// Visual hull benchmarks: one frame of 8 views at 640x480 (simulated walking person), one
+// core: voxel carving at 1 cm and 2 cm, surface extraction, and sub-frame interpolation.
+//   build/tests/bench/silnet_hulls_bench
+
+#include <benchmark/benchmark.h>
+
+#include <memory>
+#include <vector>
+
+#include "aggregator/hulls/boundary_mesh.h"
+#include "aggregator/hulls/silhouette_interpolation.h"
+#include "aggregator/hulls/voxel_hull.h"
+#include "sim/camera_network.h"
+#include "sim/render/camera_renderer.h"
+
+namespace silnet::aggregator {
+namespace {
+
+// Eight ring cameras and their exact masks of one frame of a walking person.
+struct Frame {
+  std::vector<CameraModel> cameras = sim::MakeCameraNetwork(sim::CameraNetworkOptions{});
+  sim::Scene scene{[] {
+    sim::SceneOptions o;
+    o.time_begin = -1;
+    o.time_end = 30;
+    return o;
+  }()};
+  std::vector<cv::Mat> masks;
+  std::vector<cv::Mat> next_masks;
+
+  Frame() {
+    for (size_t c = 0; c < cameras.size(); ++c) {
+      const sim::CameraRenderer renderer(cameras[c], scene, sim::RenderSettings{},
+                                         static_cast<int>(c));
+      masks.emplace_back();
+      next_masks.emplace_back();
+      // All views at one reference time (a synchronised frame), and one frame later.
+      renderer.Render(1.0, 0, &masks.back(), nullptr);
+      renderer.Render(1.0 + 1.0 / 30.0, 0, &next_masks.back(), nullptr);
+    }
+  }
+};
+
+const Frame& TheFrame() {
+  static const Frame frame;
+  return frame;
+}
+
+void BM_CarveVoxelHull8Views(benchmark::State& state) {
+  const Frame& frame = TheFrame();
+  VoxelHullOptions options;
+  options.voxel_size = static_cast<double>(state.range(0)) / 1000.0;
+  options.threads = 1;
+  size_t occupied = 0;
+  for (auto _ : state) {
+    const VoxelHullResult hull = CarveVoxelHull(frame.cameras, frame.masks, options);
+    occupied = hull.grid.CountOccupied();
+    benchmark::DoNotOptimize(occupied);
+  }
+  state.counters["voxels"] = static_cast<double>(occupied);
+}
+BENCHMARK(BM_CarveVoxelHull8Views)->Arg(10)->Arg(20)->Unit(benchmark::kMillisecond);
+
+void BM_CarveAndMesh8Views(benchmark::State& state) {
+  const Frame& frame = TheFrame();
+  VoxelHullOptions options;
+  options.voxel_size = static_cast<double>(state.range(0)) / 1000.0;
+  options.threads = 1;
+  size_t triangles = 0;
+  for (auto _ : state) {
+    const VoxelHullResult hull = CarveVoxelHull(frame.cameras, frame.masks, options);
+    triangles = ExtractBoundaryMesh(hull.grid).triangles.size();
+    benchmark::DoNotOptimize(triangles);
+  }
+  state.counters["triangles"] = static_cast<double>(triangles);
+}
+BENCHMARK(BM_CarveAndMesh8Views)->Arg(10)->Arg(20)->Unit(benchmark::kMillisecond);
+
+void BM_InterpolateSilhouette640x480(benchmark::State& state) {
+  const Frame& frame = TheFrame();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(InterpolateSilhouette(frame.masks[0], frame.next_masks[0], 0.4));
+}
+BENCHMARK(BM_InterpolateSilhouette640x480)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace silnet::aggregator
+
+BENCHMARK_MAIN();
