@@ -2,6 +2,7 @@
 //   ingest     subscribe to the nodes, store every session durably, request missing frames
 //   pairs      every camera pair's epipolar geometry and time offset from the silhouettes
 //   calibrate  pairs, synchronisation and calibration of the whole network
+//   hulls      a visual hull per frame from silhouettes and a calibration
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -20,7 +21,7 @@ int main(int argc, char** argv) {
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
       ->capture_default_str();
   const cli::Command commands[] = {cli::AddIngestCommand(app), cli::AddPairsCommand(app),
-                                   cli::AddCalibrateCommand(app)};
+                                   cli::AddCalibrateCommand(app), cli::AddHullsCommand(app)};
   CLI11_PARSE(app, argc, argv);
   cli::WatchSignals();
   try {

@@ -16,5 +16,6 @@ struct Command {
 Command AddIngestCommand(CLI::App& app);
 Command AddPairsCommand(CLI::App& app);
 Command AddCalibrateCommand(CLI::App& app);
+Command AddHullsCommand(CLI::App& app);
 
 }  // namespace silnet::aggregator::cli

@@ -1,0 +1,159 @@
+#include "aggregator/hulls/real_datasets.h"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "aggregator/calibration/projective_geometry.h"
+#include "shared/util/check.h"
+
+namespace silnet::aggregator {
+namespace {
+
+std::ifstream OpenOrThrow(const std::filesystem::path& path, std::ios::openmode mode) {
+  std::ifstream in(path, mode);
+  if (!in) throw InputError(fmt::format("cannot open {}", path.string()));
+  return in;
+}
+
+// Next whitespace-separated PBM header token, skipping '#' comments to the end of the line.
+std::string PbmToken(std::istream& in) {
+  std::string token;
+  while (in) {
+    const int ch = in.get();
+    if (ch == '#') {
+      std::string comment;
+      std::getline(in, comment);
+      if (!token.empty()) return token;
+    } else if (std::isspace(ch) || ch == EOF) {
+      if (!token.empty()) return token;
+    } else {
+      token.push_back(static_cast<char>(ch));
+    }
+  }
+  return token;
+}
+
+CameraModel SingleInstantCamera(std::string id, const cv::Mat& mask) {
+  CameraModel camera;
+  camera.id = std::move(id);
+  camera.width = mask.cols;
+  camera.height = mask.rows;
+  return camera;
+}
+
+}  // namespace
+
+cv::Mat ReadPbm(const std::filesystem::path& path, int foreground_bit) {
+  std::ifstream in = OpenOrThrow(path, std::ios::binary);
+  if (PbmToken(in) != "P4")
+    throw InputError(fmt::format("{} is not a binary PBM (P4)", path.string()));
+  int width = 0, height = 0;
+  try {
+    width = std::stoi(PbmToken(in));
+    height = std::stoi(PbmToken(in));
+  } catch (const std::exception&) {
+    throw InputError(fmt::format("{}: malformed PBM size", path.string()));
+  }
+  if (width <= 0 || height <= 0) throw InputError(fmt::format("{}: bad PBM size", path.string()));
+  // PbmToken consumed the single whitespace byte after the height; raster rows follow.
+  const size_t row_bytes = static_cast<size_t>(width + 7) / 8;
+  std::vector<unsigned char> row(row_bytes);
+  cv::Mat mask(height, width, CV_8UC1);
+  for (int y = 0; y < height; ++y) {
+    if (!in.read(reinterpret_cast<char*>(row.data()), static_cast<std::streamsize>(row_bytes)))
+      throw InputError(fmt::format("{} is truncated at row {}", path.string(), y));
+    for (int x = 0; x < width; ++x) {
+      const int bit = (row[static_cast<size_t>(x / 8)] >> (7 - x % 8)) & 1;
+      mask.at<uint8_t>(y, x) = bit == foreground_bit ? 255 : 0;
+    }
+  }
+  return mask;
+}
+
+RealCapture LoadInriaDancer(const std::filesystem::path& folder) {
+  const std::filesystem::path par = folder / "dancer_par.txt";
+  std::ifstream in = OpenOrThrow(par, std::ios::in);
+  int count = 0;
+  if (!(in >> count) || count <= 0)
+    throw InputError(fmt::format("{}: bad view count", par.string()));
+  RealCapture capture;
+  for (int v = 0; v < count; ++v) {
+    std::string name;
+    Matrix34d p;
+    in >> name;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 4; ++c)
+        in >> p(r, c);
+    }
+    if (!in) throw InputError(fmt::format("{}: view {} is malformed", par.string(), v + 1));
+    const cv::Mat mask = ReadPbm(folder / name, 0);
+    CameraModel camera = SingleInstantCamera(std::filesystem::path(name).stem().string(), mask);
+    if (!DecomposeProjection(p, &camera.K, &camera.R, &camera.t))
+      throw InputError(fmt::format("{}: the projection of {} is singular", par.string(), name));
+    capture.cameras.push_back(camera);
+    capture.masks.push_back(mask);
+  }
+  return capture;
+}
+
+RealCapture LoadTsinghuaWd2(const std::filesystem::path& folder, bool use_distortion) {
+  const std::filesystem::path calib = folder / "calibParamsI.txt";
+  std::ifstream in = OpenOrThrow(calib, std::ios::in);
+  RealCapture capture;
+  int index = 0;
+  while (in >> index) {
+    Eigen::Matrix3d k;
+    double d1 = 0, d2 = 0;
+    Eigen::Matrix3d r;
+    Eigen::Vector3d t;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j)
+        in >> k(i, j);
+    }
+    in >> d1 >> d2;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j)
+        in >> r(i, j);
+      in >> t(i);
+    }
+    if (!in)
+      throw InputError(fmt::format("{}: camera block {} is malformed", calib.string(), index));
+    const std::filesystem::path path =
+        folder / "silhouettes" / fmt::format("WD2_{}_00020_segmented.png", index);
+    const cv::Mat image = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
+    if (image.empty()) throw InputError(fmt::format("cannot read {}", path.string()));
+    cv::Mat mask;
+    cv::threshold(image, mask, 125, 255, cv::THRESH_BINARY);
+    CameraModel camera = SingleInstantCamera(fmt::format("wd2_{:02d}", index), mask);
+    camera.K = k / k(2, 2);
+    camera.R = r;
+    camera.t = t;
+    if (use_distortion) {
+      camera.dist[0] = d1;
+      camera.dist[1] = d2;
+    }
+    capture.cameras.push_back(camera);
+    capture.masks.push_back(mask);
+  }
+  if (capture.cameras.empty()) throw InputError(fmt::format("{} has no cameras", calib.string()));
+  return capture;
+}
+
+cv::Mat KeepLargestComponent(const cv::Mat& mask) {
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(mask != 0, labels, stats, centroids, 8, CV_32S);
+  int best = 0;
+  for (int i = 1; i < n; ++i) {
+    if (best == 0 || stats.at<int>(i, cv::CC_STAT_AREA) > stats.at<int>(best, cv::CC_STAT_AREA))
+      best = i;
+  }
+  cv::Mat out = cv::Mat::zeros(mask.size(), CV_8UC1);
+  if (best > 0) out.setTo(255, labels == best);
+  return out;
+}
+
+}  // namespace silnet::aggregator

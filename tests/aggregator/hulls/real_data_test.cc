@@ -1,0 +1,224 @@
+// Visual hulls of real captures (the shared data folder, see its README.md) and the `hulls`
+// sequence job on a small simulated dataset with sub-frame time offsets.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <opencv2/core/persistence.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "aggregator/hulls/boundary_mesh.h"
+#include "aggregator/hulls/hull_reprojection.h"
+#include "aggregator/hulls/hull_sequence_job.h"
+#include "aggregator/hulls/mesh_check.h"
+#include "aggregator/hulls/ply_io.h"
+#include "aggregator/hulls/real_datasets.h"
+#include "aggregator/hulls/viewing_cone_bounds.h"
+#include "aggregator/hulls/voxel_hull.h"
+#include "shared/io/calibration_yaml.h"
+#include "shared/util/check.h"
+#include "sim/dataset_generator.h"
+#include "tests/support/temp_dir.h"
+
+namespace silnet::aggregator {
+namespace {
+
+const std::filesystem::path kData = SILNET_SHARED_DATA_DIR;
+// Measured thresholds (voxels of 1/200 of the bounds diagonal). The hull misses 0.4-2 % of
+// silhouette pixels in a typical view, nearly all within 2 px of its outline (calibration and
+// segmentation disagree by a pixel or two, measured: <= 0.42 % of pixels beyond 2 px in every
+// view but one, independent of the voxel size). Dancer view 4 carries a thin wire-like
+// streak above the head that no other view confirms: 6.6 % missed, 4.3 % beyond 2 px.
+constexpr double kMissed = 0.035;           // per view, raw (measured worst 3.41 %)
+constexpr double kMissedBeyond2Px = 0.01;   // per view, > 2 px from the hull (worst 0.42 %)
+constexpr double kDancer4Missed = 0.07;     // dancer0004, raw (measured 6.59 %)
+constexpr double kDancer4Beyond2Px = 0.05;  // dancer0004, > 2 px (measured 4.27 %)
+
+// Carves, meshes and reprojects one capture; prints the figures.
+struct RealHull {
+  TriangleMesh mesh;
+  MeshCheck check;
+  std::vector<ViewReprojection> views;
+  std::vector<double> missed_beyond_2px;  // per view: missed fraction > 2 px from the hull
+};
+
+RealHull CarveAndMeasure(const RealCapture& capture, const std::string& name) {
+  const ViewingConeBounds bounds = ComputeViewingConeBounds(capture.cameras, capture.masks);
+  EXPECT_TRUE(bounds.success) << bounds.reason;
+  VoxelHullOptions options;
+  options.voxel_size = bounds.box.diagonal().norm() / 200;
+  const VoxelHullResult hull = CarveVoxelHull(capture.cameras, capture.masks, options);
+  EXPECT_TRUE(hull.success) << hull.reason;
+  RealHull result;
+  result.mesh = ExtractBoundaryMesh(hull.grid);
+  result.check = CheckClosedManifold(result.mesh);
+  for (size_t c = 0; c < capture.cameras.size(); ++c) {
+    const cv::Mat rendered = RenderMeshSilhouette(result.mesh, capture.cameras[c]);
+    result.views.push_back(CompareWithSilhouette(rendered, capture.masks[c]));
+    result.views.back().camera_id = capture.cameras[c].id;
+    cv::Mat widened;
+    cv::dilate(rendered, widened, cv::getStructuringElement(cv::MORPH_ELLIPSE, {5, 5}));
+    result.missed_beyond_2px.push_back(
+        CompareWithSilhouette(widened, capture.masks[c]).missed_fraction);
+  }
+  std::printf("%s: voxel %.4f, %zu voxels, %zu vertices, %zu triangles\n", name.c_str(),
+              options.voxel_size, hull.grid.CountOccupied(), result.mesh.vertices.size(),
+              result.mesh.triangles.size());
+  for (size_t c = 0; c < result.views.size(); ++c) {
+    const ViewReprojection& v = result.views[c];
+    std::printf("  %-10s %7zu px  missed %.3f %% (beyond 2 px %.3f %%)  extra %.3f %%\n",
+                v.camera_id.c_str(), v.silhouette_pixels, 100 * v.missed_fraction,
+                100 * result.missed_beyond_2px[c], 100 * v.spurious_fraction);
+  }
+  return result;
+}
+
+TEST(RealDataHullTest, InriaDancer) {
+  const std::filesystem::path folder = kData / "inria-dancer-silhouettes";
+  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  RealCapture capture = LoadInriaDancer(folder);
+  ASSERT_EQ(capture.cameras.size(), 8u);
+  // Views 2, 3, 4 and 6 hold stray foreground blobs away from the dancer that no other view
+  // confirms; the hull is checked against the dancer, the largest blob of each view.
+  for (cv::Mat& mask : capture.masks)
+    mask = KeepLargestComponent(mask);
+  const RealHull hull = CarveAndMeasure(capture, "dancer");
+  EXPECT_TRUE(hull.check.closed_manifold) << hull.check.reason;
+  for (size_t c = 0; c < hull.views.size(); ++c) {
+    const bool streak = hull.views[c].camera_id == "dancer0004";
+    EXPECT_LE(hull.views[c].missed_fraction, streak ? kDancer4Missed : kMissed)
+        << hull.views[c].camera_id;
+    EXPECT_LE(hull.missed_beyond_2px[c], streak ? kDancer4Beyond2Px : kMissedBeyond2Px)
+        << hull.views[c].camera_id;
+  }
+}
+
+TEST(RealDataHullTest, TsinghuaWd2) {
+  const std::filesystem::path folder = kData / "tsinghua-wd2-20cam";
+  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  const RealCapture capture = LoadTsinghuaWd2(folder, false);
+  ASSERT_EQ(capture.cameras.size(), 20u);
+  const RealHull hull = CarveAndMeasure(capture, "wd2");
+  EXPECT_TRUE(hull.check.closed_manifold) << hull.check.reason;
+  // Measured worst raw miss 2.03 % (wd2_01); the file's radial coefficients change it by
+  // <= 0.4 points per view, so they are left out as the dataset's own code does.
+  for (size_t c = 0; c < hull.views.size(); ++c) {
+    EXPECT_LE(hull.views[c].missed_fraction, kMissed) << hull.views[c].camera_id;
+    EXPECT_LE(hull.missed_beyond_2px[c], kMissedBeyond2Px) << hull.views[c].camera_id;
+  }
+}
+
+// A small simulated dataset: 6 cameras with fractional time offsets, exact masks.
+struct SimulatedDataset {
+  silnet::testing::TempDir dir;
+  std::vector<CameraModel> cameras;
+
+  SimulatedDataset() {
+    sim::SimulationOptions options;
+    options.network.cameras = 6;
+    options.network.max_offset = 3.0;
+    options.network.seed = 7;
+    options.frames = 16;
+    options.write_frames = false;
+    options.threads = 1;
+    options.scene.seed = 3;
+    cameras = sim::GenerateDataset(options, dir / "data", nullptr).cameras;
+  }
+  HullSequenceConfig Config(int first, int last) const {
+    HullSequenceConfig config;
+    config.input = dir / "data";
+    config.calibration = dir / "data" / "ground_truth.yaml";
+    config.output = dir / "out";
+    config.first_frame = first;
+    config.last_frame = last;
+    config.options.voxel_size = 0.02;
+    config.options.threads = 2;
+    return config;
+  }
+};
+
+TEST(HullSequenceJobTest, WritesMeshesIndexAndOverlays) {
+  const SimulatedDataset data;
+  const size_t reference = ReferenceCameraIndex(data.cameras);
+  // The first frame every camera can interpolate, in the reference camera's frames.
+  double lowest = 0, highest = 1e9;
+  for (const CameraModel& camera : data.cameras) {
+    const double ref = data.cameras[reference].time_offset - camera.time_offset;
+    lowest = std::max(lowest, -ref);
+    highest = std::min(highest, 15 - ref);
+  }
+  const int first = static_cast<int>(std::ceil(lowest)) + 1;
+  ASSERT_LT(first + 3, static_cast<int>(std::floor(highest)));
+  HullSequenceConfig config = data.Config(first, first + 3);
+  config.options.overlays = true;
+  Progress progress("hulls", 0);
+  const HullSequenceResult result = RunHullSequenceJob(config, &progress);
+  EXPECT_TRUE(result.interpolated);
+  ASSERT_EQ(result.frames.size(), 3u);
+  EXPECT_EQ(result.Succeeded(), 3u);
+  EXPECT_TRUE(result.AllClosedManifold());
+  EXPECT_EQ(progress.done(), 3u);
+  for (const HullFrameResult& f : result.frames) {
+    ASSERT_TRUE(f.success) << f.reason;
+    const TriangleMesh mesh = ReadPlyMesh((config.output / f.file).string());
+    EXPECT_EQ(mesh.triangles.size(), f.triangles);
+    EXPECT_GT(f.volume_m3, 0.01);  // a person is some 0.07 m^3
+    ASSERT_EQ(f.views.size(), data.cameras.size());
+    for (const ViewReprojection& v : f.views) {
+      // Exact masks, 2 cm voxels: the cuberille surface misses little and overshoots more.
+      // Measured with seed 7: worst view 1.5 %, mean 0.35 %; interpolated silhouettes of
+      // different cameras agree less than exact ones (0.3 % worst in subject_hull_test).
+      EXPECT_LE(v.missed_fraction, 0.025) << v.camera_id << " frame " << f.frame;
+      EXPECT_LE(v.spurious_fraction, 0.25) << v.camera_id << " frame " << f.frame;
+      const std::string overlay = "overlays/frame_" + f.file.substr(6, 6) + "_" + v.camera_id;
+      EXPECT_TRUE(std::filesystem::exists(config.output / (overlay + ".png"))) << overlay;
+    }
+  }
+  EXPECT_LE(result.MeanMissed(), 0.006);
+  std::printf("sequence: %zu frames, mean missed %.3f %%, extra %.3f %%, %.2f s\n",
+              result.frames.size(), 100 * result.MeanMissed(), 100 * result.MeanSpurious(),
+              result.seconds);
+
+  cv::FileStorage index((config.output / "hulls.yaml").string(), cv::FileStorage::READ);
+  ASSERT_TRUE(index.isOpened());
+  const cv::FileNode frames = index["frames"];
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_EQ(static_cast<int>(frames[0]["frame"]), first);
+  EXPECT_EQ(static_cast<std::string>(frames[0]["file"]), result.frames[0].file);
+  EXPECT_EQ(static_cast<int>(frames[0]["closed_manifold"]), 1);
+  EXPECT_EQ(frames[0]["views"].size(), data.cameras.size());
+  EXPECT_NEAR(static_cast<double>(frames[0]["views"][0]["missed_fraction"]),
+              result.frames[0].views[0].missed_fraction, 1e-12);
+}
+
+TEST(HullSequenceJobTest, ReportsUnusableInputClearly) {
+  const SimulatedDataset data;
+  auto message = [](const HullSequenceConfig& config) {
+    try {
+      RunHullSequenceJob(config, nullptr);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message(data.Config(14, 40)).find("out of range"), std::string::npos);
+  EXPECT_NE(message(data.Config(3, 3)).find("empty"), std::string::npos);
+
+  std::vector<CameraModel> renamed = data.cameras;
+  renamed[1].id = "elsewhere";
+  HullSequenceConfig config = data.Config(5, 6);
+  config.calibration = data.dir / "renamed.yaml";
+  SaveCalibration(config.calibration, renamed);
+  EXPECT_NE(message(config).find("camera elsewhere"), std::string::npos) << message(config);
+
+  std::vector<CameraModel> resized = data.cameras;
+  resized[2].width += 2;
+  config.calibration = data.dir / "resized.yaml";
+  SaveCalibration(config.calibration, resized);
+  EXPECT_NE(message(config).find("but the calibration of"), std::string::npos) << message(config);
+}
+
+}  // namespace
+}  // namespace silnet::aggregator
