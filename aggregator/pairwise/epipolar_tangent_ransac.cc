@@ -391,7 +391,21 @@ PairwiseResult EstimatePair(const SilhouetteSequence& i, const SilhouetteSequenc
     return a.support != b.support ? a.support > b.support : a.refined.inliers > b.refined.inliers;
   });
   const Solution& chosen = solutions.front();
-  const RefinedModel* best = &chosen.refined;
+  // The offset refinement can settle half a frame off (the frame pairing changes at every
+  // whole offset): restart it half a frame to either side and keep what explains clearly more.
+  RefinedModel polished = chosen.refined;
+  if (!options.synchronized) {
+    for (const double shift : {-0.5, 0.5}) {
+      EpipolarModel start = chosen.refined.model;
+      start.offset = std::clamp(start.offset + shift, lo, hi);
+      RefinedModel restarted = RefineEpipolarModel(start, i, j, all_frames, full, &rng);
+      if (restarted.valid &&
+          static_cast<double>(restarted.inliers) > 1.1 * static_cast<double>(polished.inliers)) {
+        polished = std::move(restarted);
+      }
+    }
+  }
+  const RefinedModel* best = &polished;
   result.candidates_agreeing = chosen.support;
   result.model = best->model;
   result.F = best->model.Fundamental();
