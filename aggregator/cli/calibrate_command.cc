@@ -101,13 +101,10 @@ int RunCalibrate(const CalibrateArgs& args) {
   config.calibration.bundle.threads =
       static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   if (const std::string why = config.calibration.Validate(); !why.empty()) throw InputError(why);
-  Progress progress("calibrate", 0, ConsoleProgressPrinter(), std::chrono::seconds(2));
-  CancelOnSignal cancel(&progress);
-  const CalibrateJobResult result = RunCalibrateJob(config, &progress);
-  if (progress.cancelled()) {
-    std::fprintf(stderr, "silnet-aggregator: cancelled\n");
-    return 130;
-  }
+  const auto run = RunWithProgress(
+      "calibrate", [&](Progress* progress) { return RunCalibrateJob(config, progress); });
+  if (!run) return 130;
+  const CalibrateJobResult& result = *run;
   PrintResult(result, args.out);
   if (args.publish && result.calibration.PlacedCount() > 0) Publish(args, result.calibration);
   return result.calibration.PlacedCount() >= 2 ? 0 : 3;

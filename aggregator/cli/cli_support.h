@@ -4,6 +4,9 @@
 
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -30,6 +33,21 @@ class CancelOnSignal {
   std::atomic<bool> done_{false};
   std::thread watcher_;
 };
+
+// Runs `job(Progress*)` with console progress under `name`, cancelled by SIGINT/SIGTERM.
+// Returns the job's result, or nullopt (after saying so on stderr) if it was cancelled.
+template <typename Job>
+auto RunWithProgress(const std::string& name, Job&& job)
+    -> std::optional<decltype(job(static_cast<Progress*>(nullptr)))> {
+  Progress progress(name, 0, ConsoleProgressPrinter(), std::chrono::seconds(2));
+  CancelOnSignal cancel(&progress);
+  auto result = job(&progress);
+  if (progress.cancelled()) {
+    std::fprintf(stderr, "silnet-aggregator: cancelled\n");
+    return std::nullopt;
+  }
+  return result;
+}
 
 // Command-line form of the pairwise options.
 struct PairwiseArgs {

@@ -43,13 +43,10 @@ int RunHulls(const HullsArgs& args) {
   if (args.no_interpolation) config.options.interpolate = false;
   config.options.overlays = args.overlays;
   config.options.threads = args.threads;
-  Progress progress("hulls", 0, ConsoleProgressPrinter(), std::chrono::seconds(2));
-  CancelOnSignal cancel(&progress);
-  const HullSequenceResult result = RunHullSequenceJob(config, &progress);
-  if (progress.cancelled()) {
-    std::fprintf(stderr, "silnet-aggregator: cancelled\n");
-    return 130;
-  }
+  const auto run = RunWithProgress(
+      "hulls", [&](Progress* progress) { return RunHullSequenceJob(config, progress); });
+  if (!run) return 130;
+  const HullSequenceResult& result = *run;
   std::printf(
       "hulls: %zu of %zu frames, voxel %.4f m, interpolation %s, mean missed %.3f %%, mean "
       "extra %.3f %%, all closed+manifold %s, %.1f s -> %s/hulls.yaml\n",

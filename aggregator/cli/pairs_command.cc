@@ -29,13 +29,10 @@ int RunPairs(const PairsArgs& args) {
   config.max_frames = args.max_frames;
   config.options = args.pairwise.Options();
   config.overlays = ParseOverlays(args.overlays);
-  Progress progress("pairs", 0, ConsoleProgressPrinter(), std::chrono::seconds(2));
-  CancelOnSignal cancel(&progress);
-  const auto result = RunPairsJob(config, &progress);
-  if (progress.cancelled()) {
-    std::fprintf(stderr, "silnet-aggregator: cancelled\n");
-    return 130;
-  }
+  const auto run =
+      RunWithProgress("pairs", [&](Progress* progress) { return RunPairsJob(config, progress); });
+  if (!run) return 130;
+  const PairwiseJobResult& result = *run;
   std::printf("pairs: %zu of %zu ok in %.1f s -> %s/pairs.yaml\n", result.ok(), result.pairs.size(),
               result.seconds, args.out.c_str());
   for (const auto& p : result.pairs) {
