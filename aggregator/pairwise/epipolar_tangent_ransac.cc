@@ -396,9 +396,9 @@ PairwiseResult EstimatePair(const SilhouetteSequence& i, const SilhouetteSequenc
   RefinedModel polished = chosen.refined;
   if (!options.synchronized) {
     for (const double shift : {-0.5, 0.5}) {
-      EpipolarModel start = chosen.refined.model;
-      start.offset = std::clamp(start.offset + shift, lo, hi);
-      RefinedModel restarted = RefineEpipolarModel(start, i, j, all_frames, full, &rng);
+      EpipolarModel restart_from = chosen.refined.model;
+      restart_from.offset = std::clamp(restart_from.offset + shift, lo, hi);
+      RefinedModel restarted = RefineEpipolarModel(restart_from, i, j, all_frames, full, &rng);
       if (restarted.valid &&
           static_cast<double>(restarted.inliers) > 1.1 * static_cast<double>(polished.inliers)) {
         polished = std::move(restarted);
