@@ -1,6 +1,7 @@
 #include "aggregator/hulls/hull_sequence_job.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <chrono>
@@ -59,7 +60,8 @@ cv::Mat MaskAt(const DatasetLayout& layout, const CameraModel& camera, const Mas
   return InterpolateSilhouette(first, ReadMask(layout, camera, source.k + 1), source.fraction);
 }
 
-// Every calibration camera must have masks and every dataset camera a calibration.
+// Every calibration camera must have masks; dataset cameras without a calibration are
+// left out with a warning.
 void CheckCameras(const DatasetLayout& layout, const std::vector<CameraModel>& cameras,
                   const std::filesystem::path& calibration) {
   if (cameras.empty()) throw InputError(fmt::format("{} has no cameras", calibration.string()));
@@ -72,10 +74,11 @@ void CheckCameras(const DatasetLayout& layout, const std::vector<CameraModel>& c
                                    layout.MaskPath(camera.id, 0).string()));
     }
   }
+  // A camera the calibration could not place is left out, not fatal.
   for (const std::string& id : layout.CameraIds()) {
     if (!calibrated.count(id)) {
-      throw InputError(fmt::format("camera {} of {} is missing from the calibration {}", id,
-                                   layout.root().string(), calibration.string()));
+      spdlog::warn("camera {} of {} is not in the calibration {}; building hulls without it", id,
+                   layout.root().string(), calibration.string());
     }
   }
 }

@@ -79,8 +79,9 @@ struct HullSequenceResult {
   bool AllClosedManifold() const;
 };
 
-// Runs the job. Throws InputError for a calibration camera without masks (or a dataset camera
-// without calibration), masks whose size differs from the calibration, an empty or
+// Runs the job on the calibration's cameras (dataset cameras the calibration lacks, such as
+// ones it could not place, are left out with a warning). Throws InputError for a calibration
+// camera without masks, masks whose size differs from the calibration, an empty or
 // out-of-range frame range, and unreadable files. Per-frame failures are data. `progress`
 // (may be null) counts frames and is polled for cancellation between frames.
 HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config, Progress* progress);

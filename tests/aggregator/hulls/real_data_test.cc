@@ -193,6 +193,23 @@ TEST(HullSequenceJobTest, WritesMeshesIndexAndOverlays) {
               result.frames[0].views[0].missed_fraction, 1e-12);
 }
 
+TEST(HullSequenceJobTest, LeavesOutCamerasTheCalibrationCouldNotPlace) {
+  const SimulatedDataset data;
+  std::vector<CameraModel> placed = data.cameras;
+  placed.erase(placed.begin() + 4);  // as if the calibration had not placed cam04
+  HullSequenceConfig config = data.Config(8, 9);
+  config.calibration = data.dir / "placed.yaml";
+  SaveCalibration(config.calibration, placed);
+  const HullSequenceResult result = RunHullSequenceJob(config, nullptr);
+  ASSERT_EQ(result.frames.size(), 1u);
+  ASSERT_TRUE(result.frames[0].success) << result.frames[0].reason;
+  ASSERT_EQ(result.frames[0].views.size(), placed.size());
+  for (const ViewReprojection& v : result.frames[0].views) {
+    EXPECT_NE(v.camera_id, "cam04");
+    EXPECT_LE(v.missed_fraction, 0.025) << v.camera_id;
+  }
+}
+
 TEST(HullSequenceJobTest, ReportsUnusableInputClearly) {
   const SimulatedDataset data;
   auto message = [](const HullSequenceConfig& config) {
