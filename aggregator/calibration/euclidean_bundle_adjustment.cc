@@ -9,6 +9,7 @@
 #include <chrono>
 
 #include "aggregator/calibration/projective_geometry.h"
+#include "shared/util/statistics.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -95,13 +96,6 @@ std::vector<int> FixedIntrinsics(const IntrinsicsModel& model) {
   for (int i : {6, 7, 8})
     fixed.push_back(i);
   return fixed;
-}
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  return *mid;
 }
 
 // Moves the world frame onto the first observed camera (R = I, t = 0) and returns that
@@ -266,7 +260,7 @@ BundleSummary AdjustEuclidean(MetricScene* scene, const IntrinsicsModel& model,
     for (size_t k = 0; k < scene->tracks.size(); ++k) {
       if (scene->inlier[k]) errors.push_back(track_error(k));
     }
-    const double cut = std::max(outlier_px, sigmas * 1.4826 * Median(errors));
+    const double cut = std::max(outlier_px, sigmas * 1.4826 * UpperMedian(errors));
     size_t removed = 0;
     for (size_t k = 0; k < scene->tracks.size(); ++k) {
       if (scene->inlier[k] && !(track_error(k) <= cut)) {
@@ -302,7 +296,7 @@ BundleSummary AdjustEuclidean(MetricScene* scene, const IntrinsicsModel& model,
   }
   summary.observations = errors.size();
   summary.rms_px = errors.empty() ? 0.0 : std::sqrt(sum2 / static_cast<double>(errors.size()));
-  summary.median_px = Median(std::move(errors));
+  summary.median_px = UpperMedian(std::move(errors));
   summary.usable = second.usable && summary.observations > 0;
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;

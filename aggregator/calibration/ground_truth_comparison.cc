@@ -4,16 +4,10 @@
 #include <algorithm>
 
 #include "shared/util/check.h"
+#include "shared/util/statistics.h"
 
 namespace silnet::aggregator {
 namespace {
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  return *mid;
-}
 
 double Max(const std::vector<double>& values) {
   return values.empty() ? 0.0 : *std::max_element(values.begin(), values.end());
@@ -76,15 +70,15 @@ CalibrationErrors CompareWithGroundTruth(const std::vector<CameraModel>& estimat
     k1.push_back(c.k1_error);
     e.cameras.push_back(c);
   }
-  e.median_focal_rel = Median(focal);
+  e.median_focal_rel = UpperMedian(focal);
   e.max_focal_rel = Max(focal);
-  e.median_rotation_deg = Median(rotation);
+  e.median_rotation_deg = UpperMedian(rotation);
   e.max_rotation_deg = Max(rotation);
-  e.median_center_rel = Median(centre);
+  e.median_center_rel = UpperMedian(centre);
   e.max_center_rel = Max(centre);
-  e.median_offset_frames = Median(offset);
+  e.median_offset_frames = UpperMedian(offset);
   e.max_offset_frames = Max(offset);
-  e.median_k1_error = Median(k1);
+  e.median_k1_error = UpperMedian(k1);
   return e;
 }
 

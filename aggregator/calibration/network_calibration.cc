@@ -14,6 +14,7 @@
 #include "shared/util/check.h"
 #include "shared/util/log.h"
 #include "shared/util/parallel_for.h"
+#include "shared/util/statistics.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -22,13 +23,6 @@ using Clock = std::chrono::steady_clock;
 
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  return *mid;
 }
 
 size_t IndexOf(const std::vector<CameraModel>& cameras, const std::string& id) {
@@ -188,10 +182,10 @@ void FillResult(const MetricScene& scene, const SyncResult& sync, NetworkCalibra
     p.placed = true;
     p.observations = errors[c].size();
     p.rms_px = rms(errors[c]);
-    p.median_px = Median(errors[c]);
+    p.median_px = UpperMedian(errors[c]);
   }
   out->rms_px = rms(all);
-  out->median_px = Median(all);
+  out->median_px = UpperMedian(all);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include "aggregator/pairwise/fundamental_distance.h"
 #include "shared/geometry/epipolar.h"
+#include "shared/util/statistics.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -23,9 +24,7 @@ double EstimateDisagreement(const PairwiseResult& r, const CameraModel& ci, cons
     distances.push_back(SymmetricEpipolarDistance(derived, ci.UndistortPixel(m.x_i),
                                                   cj.UndistortPixel(m.XjAt(r.offset))));
   }
-  const auto mid = distances.begin() + static_cast<std::ptrdiff_t>(distances.size() / 2);
-  std::nth_element(distances.begin(), mid, distances.end());
-  return *mid;
+  return UpperMedian(std::move(distances));
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "aggregator/calibration/projective_geometry.h"
+#include "shared/util/statistics.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -38,13 +39,6 @@ double ViewError(const Matrix34d& p, const Eigen::Matrix3d& n, const Eigen::Vect
                  const Eigen::Vector2d& observed) {
   const Eigen::Vector3d projected = p * x;
   return (projected.hnormalized() - Normalize(n, observed)).norm() / n(0, 0);
-}
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  return *mid;
 }
 
 }  // namespace
@@ -133,7 +127,7 @@ BundleSummary AdjustProjective(ProjectiveScene* scene, const BundleOptions& opti
   const double n = static_cast<double>(summary.observations);
   summary.initial_rms_px = std::sqrt(2.0 * result.initial_cost / n);
   summary.rms_px = std::sqrt(sum2 / n);
-  summary.median_px = Median(std::move(errors));
+  summary.median_px = UpperMedian(std::move(errors));
   summary.iterations = static_cast<int>(result.iterations.size());
   summary.usable = result.termination_type != ceres::FAILURE && std::isfinite(result.final_cost);
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
