@@ -1,5 +1,6 @@
 // Visual hull benchmarks: one frame of 8 views at 640x480 (simulated walking person), one
-// core: voxel carving at 1 cm and 2 cm, surface extraction, and sub-frame interpolation.
+// core: voxel carving at 1 cm and 2 cm, surface extraction, the exact polyhedral hull, and
+// sub-frame interpolation.
 //   build/tests/bench/silnet_hulls_bench
 
 #include <benchmark/benchmark.h>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "aggregator/hulls/boundary_mesh.h"
+#include "aggregator/hulls/polyhedral_hull.h"
 #include "aggregator/hulls/silhouette_interpolation.h"
 #include "aggregator/hulls/voxel_hull.h"
 #include "sim/camera_network.h"
@@ -75,6 +77,19 @@ void BM_CarveAndMesh8Views(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(triangles);
 }
 BENCHMARK(BM_CarveAndMesh8Views)->Arg(10)->Arg(20)->Unit(benchmark::kMillisecond);
+
+void BM_PolyhedralHull8Views(benchmark::State& state) {
+  const Frame& frame = TheFrame();
+  size_t triangles = 0;
+  for (auto _ : state) {
+    const PolyhedralHullResult hull = ComputePolyhedralHull(frame.cameras, frame.masks);
+    if (!hull.success) state.SkipWithError(hull.reason.c_str());
+    triangles = hull.mesh.triangles.size();
+    benchmark::DoNotOptimize(triangles);
+  }
+  state.counters["triangles"] = static_cast<double>(triangles);
+}
+BENCHMARK(BM_PolyhedralHull8Views)->Unit(benchmark::kMillisecond);
 
 void BM_InterpolateSilhouette640x480(benchmark::State& state) {
   const Frame& frame = TheFrame();

@@ -13,12 +13,15 @@
 #include "aggregator/hulls/boundary_mesh.h"
 #include "aggregator/hulls/hull_reprojection.h"
 #include "aggregator/hulls/mesh_check.h"
+#include "aggregator/hulls/mesh_measure.h"
 #include "aggregator/hulls/ply_io.h"
+#include "aggregator/hulls/polyhedral_hull.h"
 #include "aggregator/hulls/silhouette_interpolation.h"
 #include "aggregator/hulls/voxel_hull.h"
 #include "sim/camera_network.h"
 #include "sim/render/camera_renderer.h"
 #include "sim/scene/scene.h"
+#include "tests/aggregator/hulls/hull_comparison.h"
 #include "tests/support/temp_dir.h"
 
 namespace silnet::aggregator {
@@ -147,6 +150,89 @@ TEST(SubjectHullTest, SynchronisedCaptureReprojectsOntoTheSilhouettes) {
     const TriangleMesh back = ReadPlyMesh(ply_path);
     EXPECT_EQ(back.triangles, mesh.triangles);
     EXPECT_TRUE(back.vertices == mesh.vertices);
+  }
+}
+
+// The subject's true surface: samples of each body part not inside another part.
+std::vector<Eigen::Vector3d> TrueSurface(const std::vector<sim::Primitive>& parts, int per_part) {
+  std::mt19937_64 rng(17);
+  std::vector<Eigen::Vector3d> surface;
+  for (size_t p = 0; p < parts.size(); ++p) {
+    for (const Eigen::Vector3d& x : parts[p].SampleSurface(per_part, rng)) {
+      bool covered = false;
+      for (size_t q = 0; q < parts.size() && !covered; ++q)
+        covered = q != p && parts[q].Contains(x);
+      if (!covered) surface.push_back(x);
+    }
+  }
+  return surface;
+}
+
+TEST(SubjectHullTest, PolyhedralHullContainsTheSubjectAndMatchesTheVoxelHull) {
+  sim::CameraNetworkOptions network;
+  network.seed = 3;
+  network.max_offset = 0.0;
+  const Capture capture = MakeCapture(network, 0.9);
+  for (double time : {1.0, 2.0, 3.0, 4.3}) {
+    const std::vector<cv::Mat> masks = capture.MasksAt(time);
+    const PolyhedralHullResult hull = ComputePolyhedralHull(capture.cameras, masks);
+    ASSERT_TRUE(hull.success) << hull.reason << " at " << time << " s";
+    const MeshCheck check = CheckClosedManifold(hull.mesh);
+    EXPECT_TRUE(check.closed_manifold) << check.reason;
+
+    const std::vector<ViewReprojection> views =
+        MeasureHullReprojection(hull.mesh, capture.cameras, masks);
+    for (const ViewReprojection& view : views)
+      EXPECT_LE(view.missed_fraction, 0.01) << view.camera_id << " at " << time << " s";
+
+    // Every true surface point lies inside the hull, up to one voxel (rasterised).
+    VoxelHullOptions options;
+    options.voxel_size = kVoxel;
+    const VoxelHullResult carved = CarveVoxelHull(capture.cameras, masks, options);
+    ASSERT_TRUE(carved.success) << carved.reason;
+    const VoxelGrid raster = RasterizeMesh(hull.mesh, carved.grid);
+    const std::vector<Eigen::Vector3d> truth = TrueSurface(capture.scene->PrimitivesAt(time), 400);
+    size_t outside = 0;
+    for (const Eigen::Vector3d& p : truth) {
+      const Eigen::Vector3d g = (p - raster.origin) / kVoxel;
+      const int i = static_cast<int>(std::floor(g.x())), j = static_cast<int>(std::floor(g.y()));
+      const int k = static_cast<int>(std::floor(g.z()));
+      bool near = false;
+      for (int dz = -1; dz <= 1 && !near; ++dz) {
+        for (int dy = -1; dy <= 1 && !near; ++dy) {
+          for (int dx = -1; dx <= 1 && !near; ++dx)
+            near = raster.IsOccupied(i + dx, j + dy, k + dz);
+        }
+      }
+      if (!near) ++outside;
+    }
+    EXPECT_GT(truth.size(), 2000u);
+    EXPECT_EQ(outside, 0u) << "of " << truth.size() << " surface samples at " << time << " s";
+
+    // Polyhedral and volumetric hulls differ only within one voxel of the polyhedral surface.
+    const hull_testing::HullDifference difference =
+        hull_testing::CompareWithCarvedHull(hull.mesh, raster, carved.grid);
+    // A handful of voxels (1 to 7 in ~2400 differing at 1 cm, about one pixel here) differ
+    // by a little more than a voxel diagonal; not yet explained (see docs/PERFORMANCE.md).
+    EXPECT_LE(difference.far, difference.differing / 200)
+        << "of " << difference.differing << " differing voxels at " << time << " s";
+    const size_t differ = difference.differing;
+
+    // Distance to the true surface (sampled Hausdorff), reported.
+    std::mt19937_64 rng(5);
+    const SurfaceDistances distances =
+        MeasureSurfaceDistances(SampleMeshSurface(hull.mesh, 20000, rng), truth);
+    EXPECT_LT(distances.a_to_b_mean, 0.05);
+    const TotalReprojection total = Total(views);
+    std::printf(
+        "t = %.1f s: polyhedral hull %zu triangles, %zu triple points; missed %.4f%%, "
+        "spurious %.2f%%; %zu of %zu voxels differ from the carved hull; hull to surface: "
+        "mean %.1f mm, max (Hausdorff) %.1f mm; surface to hull: mean %.1f mm, max %.1f mm\n",
+        time, hull.mesh.triangles.size(), hull.stats.triple_points, 100 * total.missed,
+        100 * total.spurious, differ, carved.grid.CountOccupied(), 1000 * distances.a_to_b_mean,
+        1000 * distances.a_to_b_max, 1000 * distances.b_to_a_mean, 1000 * distances.b_to_a_max);
+    RecordProperty("hausdorff_mm_t" + std::to_string(static_cast<int>(10 * time)),
+                   std::to_string(1000 * distances.Hausdorff()));
   }
 }
 

@@ -1,0 +1,322 @@
+#include "aggregator/hulls/cone_face_region.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+
+namespace silnet::aggregator {
+namespace {
+
+constexpr double kLambdaEpsilon = 1e-12;
+
+// Sides of the chart box, in the order of the half-planes below.
+enum ChartSide { kLambdaZero = 0, kLambdaOne = 1, kBottom = 2, kTop = 3, kVertex = -1 };
+
+// The chart seen from one other camera: the homography chart -> image and the chart box's
+// image as four half-planes (inside where all are >= 0).
+struct ViewMapping {
+  Eigen::Matrix3d to_image;
+  Eigen::Matrix3d to_chart;
+  std::array<Eigen::Vector3d, 4> sides;
+};
+
+// The chart point of a pixel inside the box's image.
+Eigen::Vector2d ChartPoint(const ViewMapping& mapping, const Eigen::Vector2d& pixel) {
+  const Eigen::Vector3d c = mapping.to_chart * pixel.homogeneous();
+  return {c.x() / c.z(), c.y() / c.z()};
+}
+
+// The chart endpoint where a clipped edge ends, snapped onto the box side that clipped it.
+Eigen::Vector2d ClippedEndpoint(const ViewMapping& mapping, const Eigen::Vector2d& pixel, int side,
+                                double w_min, double w_max) {
+  Eigen::Vector2d c = ChartPoint(mapping, pixel);
+  if (side == kLambdaZero) c.x() = 0;
+  if (side == kLambdaOne) c.x() = 1;
+  if (side == kBottom) c.y() = w_min;
+  if (side == kTop) c.y() = w_max;
+  return c;
+}
+
+// Builds the lines of one other view's contour edges that cross the chart box, and the events
+// they cause. Returns false if the box is not entirely in front of that camera.
+bool AddViewLines(const ConePlaneSet& set, int face_view, int view, FaceRegion& region,
+                  bool& corner_inside, std::vector<int>& candidates) {
+  const Matrix34d& P = set.Projection(view);
+  const Eigen::Matrix3d M = P.leftCols<3>();
+  ViewMapping mapping;
+  mapping.to_image.col(0) = M * (region.d_q - region.d_p);
+  mapping.to_image.col(1) = P * region.centre.homogeneous();
+  mapping.to_image.col(2) = M * region.d_p;
+  mapping.to_chart = mapping.to_image.inverse();
+  const auto image_of = [&](double lambda, double w) {
+    return Eigen::Vector3d(mapping.to_image * Eigen::Vector3d(lambda, w, 1));
+  };
+  const std::array<Eigen::Vector3d, 4> corners = {
+      image_of(0, region.w_min), image_of(1, region.w_min), image_of(1, region.w_max),
+      image_of(0, region.w_max)};
+  for (const Eigen::Vector3d& corner : corners) {
+    if (!(corner.z() > 0)) return false;
+  }
+  const Eigen::Vector3d centre = image_of(0.5, 0.5 * (region.w_min + region.w_max));
+  const std::array<std::pair<int, int>, 4> side_corners = {{{0, 3}, {1, 2}, {0, 1}, {3, 2}}};
+  for (size_t s = 0; s < 4; ++s) {
+    const Eigen::Vector3d a = corners[static_cast<size_t>(side_corners[s].first)] /
+                              corners[static_cast<size_t>(side_corners[s].first)].z();
+    const Eigen::Vector3d b = corners[static_cast<size_t>(side_corners[s].second)] /
+                              corners[static_cast<size_t>(side_corners[s].second)].z();
+    Eigen::Vector3d line = a.cross(b);
+    if (line.dot(centre / centre.z()) < 0) line = -line;
+    mapping.sides[s] = line;
+  }
+  corner_inside = set.Contains(view, corners[0].hnormalized());
+
+  candidates.clear();
+  set.CandidateEdges(face_view, view, region.d_p, region.d_q, candidates);
+  for (int index : candidates) {
+    const ConePlane& plane = set.Plane(index);
+    double t0 = 0, t1 = 1;
+    int side0 = kVertex, side1 = kVertex;
+    bool rejected = false;
+    for (int s = 0; s < 4 && !rejected; ++s) {
+      const double hu = mapping.sides[static_cast<size_t>(s)].dot(plane.p.homogeneous());
+      const double hv = mapping.sides[static_cast<size_t>(s)].dot(plane.q.homogeneous());
+      if (hu < 0 && hv < 0) {
+        rejected = true;
+      } else if (hu < 0) {
+        const double t = hu / (hu - hv);
+        if (t > t0) t0 = t, side0 = s;
+      } else if (hv < 0) {
+        const double t = hu / (hu - hv);
+        if (t < t1) t1 = t, side1 = s;
+      }
+    }
+    if (rejected || t0 >= t1) continue;
+    const Eigen::Vector2d a = ClippedEndpoint(mapping, plane.p + t0 * (plane.q - plane.p), side0,
+                                              region.w_min, region.w_max);
+    const Eigen::Vector2d b = ClippedEndpoint(mapping, plane.p + t1 * (plane.q - plane.p), side1,
+                                              region.w_min, region.w_max);
+    ChartLine line;
+    line.plane = index;
+    line.view = view;
+    line.coefficients =
+        mapping.to_image.transpose() * plane.p.homogeneous().cross(plane.q.homogeneous());
+    line.lambda_lo = std::min(a.x(), b.x());
+    line.lambda_hi = std::max(a.x(), b.x());
+    line.w_lo = std::min(a.y(), b.y());
+    line.w_hi = std::max(a.y(), b.y());
+    if (side0 == kBottom) line.bottom_crossing = a.x();
+    if (side1 == kBottom) line.bottom_crossing = b.x();
+    if (line.lambda_hi - line.lambda_lo <= kLambdaEpsilon) continue;
+    region.lines.push_back(line);
+    const auto add_event = [&](const Eigen::Vector2d& end, int side, int neighbour) {
+      if (end.x() <= 0 || end.x() >= 1 || side != kVertex) return;
+      region.events.push_back({end.x(), end.y(), index, neighbour});
+    };
+    add_event(a, side0, plane.prev);
+    add_event(b, side1, plane.next);
+  }
+  return true;
+}
+
+// An interval bound: w and the line there (-1 for the chart box).
+using Bound = std::pair<double, int>;
+
+// The w-intervals inside one view's silhouette along the vertical chart line at `lambda`,
+// into `bounds`: entries 2k and 2k + 1 bound the k-th interval. `crossings` is scratch.
+void ViewIntervals(const FaceRegion& region, const std::vector<int>& lines, bool inside,
+                   double lambda, std::vector<Bound>& crossings, std::vector<Bound>& bounds) {
+  crossings.clear();
+  bounds.clear();
+  for (int index : lines) {
+    const ChartLine& line = region.lines[static_cast<size_t>(index)];
+    if (line.bottom_crossing >= 0 && line.bottom_crossing < lambda) inside = !inside;
+    if (line.lambda_lo < lambda && lambda < line.lambda_hi) {
+      const double w = line.WAt(lambda);
+      if (w > region.w_min && w < region.w_max) crossings.emplace_back(w, index);
+    }
+  }
+  std::sort(crossings.begin(), crossings.end());
+  if (inside) bounds.emplace_back(region.w_min, -1);
+  for (const Bound& crossing : crossings) {
+    bounds.push_back(crossing);
+    inside = !inside;
+  }
+  if (inside) bounds.emplace_back(region.w_max, -1);
+}
+
+// The intersection of interval lists `a` and `b` (format above), into `out`.
+void IntersectIntervals(const std::vector<Bound>& a, const std::vector<Bound>& b,
+                        std::vector<Bound>& out) {
+  out.clear();
+  size_t i = 0, j = 0;
+  while (i + 1 < a.size() && j + 1 < b.size()) {
+    const Bound& lo = a[i].first > b[j].first ? a[i] : b[j];
+    const Bound& hi = a[i + 1].first < b[j + 1].first ? a[i + 1] : b[j + 1];
+    if (lo.first < hi.first) {
+      out.push_back(lo);
+      out.push_back(hi);
+    }
+    if (a[i + 1].first < b[j + 1].first) {
+      i += 2;
+    } else {
+      j += 2;
+    }
+  }
+}
+
+// The lambda where two lines cross inside both their spans, or -1.
+double Crossing(const ChartLine& f, const ChartLine& g) {
+  const double det =
+      f.coefficients.x() * g.coefficients.y() - f.coefficients.y() * g.coefficients.x();
+  if (det == 0) return -1;
+  const double lambda =
+      (f.coefficients.y() * g.coefficients.z() - f.coefficients.z() * g.coefficients.y()) / det;
+  if (lambda <= std::max(f.lambda_lo, g.lambda_lo) || lambda >= std::min(f.lambda_hi, g.lambda_hi))
+    return -1;
+  return lambda;
+}
+
+// True if chart point (lambda, w) lies inside the silhouette of the view with these lines.
+bool InsideView(const FaceRegion& region, const std::vector<int>& lines, bool inside, double lambda,
+                double w) {
+  for (int index : lines) {
+    const ChartLine& line = region.lines[static_cast<size_t>(index)];
+    if (line.bottom_crossing >= 0 && line.bottom_crossing < lambda) inside = !inside;
+    if (line.lambda_lo < lambda && lambda < line.lambda_hi && line.WAt(lambda) < w)
+      inside = !inside;
+  }
+  return inside;
+}
+
+// Adds the crossings of two views' lines that lie inside every other view: the only
+// crossings where the region can gain or lose a vertex (triple points, and the lambdas
+// where an interval is born or dies).
+void AddCrossingEvents(FaceRegion& region, const std::vector<std::vector<int>>& view_lines,
+                       const std::vector<bool>& corner_inside) {
+  std::vector<const ChartLine*> by_w;
+  for (const ChartLine& line : region.lines)
+    by_w.push_back(&line);
+  std::sort(by_w.begin(), by_w.end(),
+            [](const ChartLine* x, const ChartLine* y) { return x->w_lo < y->w_lo; });
+  for (size_t f = 0; f < by_w.size(); ++f) {
+    const ChartLine& first = *by_w[f];
+    for (size_t g = f + 1; g < by_w.size() && by_w[g]->w_lo <= first.w_hi; ++g) {
+      const ChartLine& second = *by_w[g];
+      if (first.view == second.view) continue;
+      const double lambda = Crossing(first, second);
+      if (lambda <= 0 || lambda >= 1) continue;
+      const double w = first.WAt(lambda);
+      bool inside = true;
+      for (size_t v = 0; v < view_lines.size() && inside; ++v) {
+        if (static_cast<int>(v) == first.view || static_cast<int>(v) == second.view) continue;
+        inside = InsideView(region, view_lines[v], corner_inside[v], lambda, w);
+      }
+      if (inside) region.events.push_back({lambda, w, first.plane, second.plane});
+    }
+  }
+}
+
+}  // namespace
+
+FaceRegion ComputeFaceRegion(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
+                             int plane_index, const WorldBox& box) {
+  FaceRegion region;
+  region.plane = plane_index;
+  const ConePlane& plane = set.Plane(plane_index);
+  const CameraModel& camera = cameras[static_cast<size_t>(plane.view)];
+  region.centre = camera.Center();
+  region.d_p = set.Ray(plane.view, plane.p);
+  region.d_q = set.Ray(plane.view, plane.q);
+  double depth_min = std::numeric_limits<double>::infinity(), depth_max = 0;
+  for (int k = 0; k < 8; ++k) {
+    const double depth =
+        (camera.R * box.corner(static_cast<WorldBox::CornerType>(k)) + camera.t).z();
+    depth_min = std::min(depth_min, depth);
+    depth_max = std::max(depth_max, depth);
+  }
+  if (!(depth_min > 0)) {
+    region.reason = fmt::format("camera {} is inside or behind the hull's bounds", camera.id);
+    return region;
+  }
+  region.w_min = 1 / depth_max;
+  region.w_max = 1 / depth_min;
+
+  std::vector<std::vector<int>> view_lines(cameras.size());
+  std::vector<int> candidates;
+  std::vector<bool> corner_inside(cameras.size(), true);
+  for (size_t v = 0; v < cameras.size(); ++v) {
+    if (static_cast<int>(v) == plane.view) continue;
+    const size_t first = region.lines.size();
+    bool inside = false;
+    if (!AddViewLines(set, plane.view, static_cast<int>(v), region, inside, candidates)) {
+      region.reason = fmt::format("the hull's bounds are not in front of camera {}", cameras[v].id);
+      return region;
+    }
+    if (first == region.lines.size() && !inside) {
+      region.success = true;  // this face lies entirely outside camera v's cone
+      region.lines.clear();
+      region.events.clear();
+      return region;
+    }
+    corner_inside[v] = inside;
+    for (size_t l = first; l < region.lines.size(); ++l)
+      view_lines[v].push_back(static_cast<int>(l));
+  }
+
+  // A contour vertex of another view changes the region only if it lies inside the rest.
+  std::erase_if(region.events, [&](const ChartEvent& event) {
+    const int view = set.Plane(event.first).view;
+    for (size_t v = 0; v < view_lines.size(); ++v) {
+      if (static_cast<int>(v) != view &&
+          !InsideView(region, view_lines[v], corner_inside[v], event.lambda, event.w))
+        return true;
+    }
+    return false;
+  });
+  AddCrossingEvents(region, view_lines, corner_inside);
+  std::vector<double> cuts = {0, 1};
+  for (const ChartEvent& event : region.events)
+    cuts.push_back(event.lambda);
+  std::sort(cuts.begin(), cuts.end());
+  cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+  std::vector<Bound> bounds, crossings, view_bounds, merged;
+  std::vector<std::pair<double, double>> pending;
+  for (size_t k = 0; k + 1 < cuts.size(); ++k)
+    pending.emplace_back(cuts[k], cuts[k + 1]);
+  std::reverse(pending.begin(), pending.end());
+
+  while (!pending.empty()) {
+    const auto [a, b] = pending.back();
+    pending.pop_back();
+    const double middle = 0.5 * (a + b);
+    bounds.assign({{region.w_min, -1}, {region.w_max, -1}});
+    for (size_t v = 0; v < cameras.size() && !bounds.empty(); ++v) {
+      if (static_cast<int>(v) == plane.view) continue;
+      ViewIntervals(region, view_lines[v], corner_inside[v], middle, crossings, view_bounds);
+      IntersectIntervals(bounds, view_bounds, merged);
+      bounds.swap(merged);
+    }
+    for (const auto& bound : bounds) {
+      if (bound.second < 0) {
+        region.reason = "the hull reaches the bounds it was computed in";
+        return region;
+      }
+    }
+    ChartSlab slab{a, b, {}};
+    for (size_t k = 0; k + 1 < bounds.size(); k += 2)
+      slab.intervals.emplace_back(bounds[k].second, bounds[k + 1].second);
+    if (!region.slabs.empty() && region.slabs.back().intervals == slab.intervals) {
+      region.slabs.back().lambda_b = b;
+    } else {
+      region.slabs.push_back(std::move(slab));
+    }
+  }
+  std::sort(region.events.begin(), region.events.end(),
+            [](const ChartEvent& x, const ChartEvent& y) { return x.lambda < y.lambda; });
+  region.success = true;
+  return region;
+}
+
+}  // namespace silnet::aggregator

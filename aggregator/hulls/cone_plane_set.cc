@@ -1,0 +1,150 @@
+#include "aggregator/hulls/cone_plane_set.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+namespace silnet::aggregator {
+namespace {
+
+constexpr double kRowStepPx = 4.0;
+// Ranges wider than this (radians) are not trusted: the edge may pass the epipole.
+constexpr double kWidestArc = 1.0;
+
+}  // namespace
+
+ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
+                           const std::vector<SilhouetteContours>& contours,
+                           const WorldBox& bounds) {
+  const size_t views = cameras.size();
+  view_planes_.resize(views);
+  for (size_t v = 0; v < views; ++v) {
+    projections_.push_back(cameras[v].ProjectionMatrix());
+    pixel_to_ray_.push_back(cameras[v].R.transpose() * cameras[v].K.inverse());
+    const auto add_ring = [&](const std::vector<Eigen::Vector2f>& ring) {
+      std::vector<Eigen::Vector2d> points;
+      for (const Eigen::Vector2f& point : ring) {
+        Eigen::Vector2d x = point.cast<double>();
+        if (cameras[v].HasDistortion()) x = cameras[v].UndistortPixel(x);
+        if (points.empty() || points.back() != x) points.push_back(x);
+      }
+      while (points.size() > 1 && points.back() == points.front())
+        points.pop_back();
+      if (points.size() < 3) return;
+      const int first = static_cast<int>(planes_.size());
+      const int n = static_cast<int>(points.size());
+      for (int k = 0; k < n; ++k) {
+        ConePlane plane;
+        plane.view = static_cast<int>(v);
+        plane.p = points[static_cast<size_t>(k)];
+        plane.q = points[static_cast<size_t>((k + 1) % n)];
+        plane.prev = first + (k + n - 1) % n;
+        plane.next = first + (k + 1) % n;
+        view_planes_[v].push_back(static_cast<int>(planes_.size()));
+        planes_.push_back(plane);
+      }
+    };
+    for (const ContourPolygon& polygon : contours[v].polygons) {
+      add_ring(polygon.outer);
+      for (const auto& hole : polygon.holes)
+        add_ring(hole);
+    }
+
+    RowIndex rows;
+    double y_min = std::numeric_limits<double>::infinity(), y_max = -y_min;
+    for (int index : view_planes_[v]) {
+      y_min = std::min(y_min, Plane(index).p.y());
+      y_max = std::max(y_max, Plane(index).p.y());
+    }
+    if (!view_planes_[v].empty()) {
+      rows.y0 = y_min;
+      rows.step = kRowStepPx;
+      rows.rows.resize(static_cast<size_t>((y_max - y_min) / kRowStepPx) + 1);
+      for (int index : view_planes_[v]) {
+        const ConePlane& plane = Plane(index);
+        const auto row = [&](double y) {
+          return std::clamp(static_cast<size_t>((y - rows.y0) / rows.step), size_t{0},
+                            rows.rows.size() - 1);
+        };
+        const size_t a = row(std::min(plane.p.y(), plane.q.y()));
+        const size_t b = row(std::max(plane.p.y(), plane.q.y()));
+        for (size_t r = a; r <= b; ++r)
+          rows.rows[r].push_back(index);
+      }
+    }
+    rows_.push_back(std::move(rows));
+  }
+
+  pairs_.resize(views * views);
+  const Eigen::Vector3d centre = bounds.center();
+  for (size_t i = 0; i < views; ++i) {
+    for (size_t j = 0; j < views; ++j) {
+      if (i == j) continue;
+      PairIndex& pair = pairs_[i * views + j];
+      const Eigen::Vector3d b = (cameras[j].Center() - cameras[i].Center()).normalized();
+      Eigen::Vector3d toward = centre - cameras[i].Center();
+      toward -= toward.dot(b) * b;
+      if (toward.norm() < 1e-12) toward = b.unitOrthogonal();
+      pair.u1 = toward.normalized();
+      pair.u2 = b.cross(pair.u1);
+      for (int index : view_planes_[j]) {
+        const ConePlane& plane = Plane(index);
+        const double a = Angle(pair, Ray(static_cast<int>(j), plane.p));
+        const double c = Angle(pair, Ray(static_cast<int>(j), plane.q));
+        if (std::abs(a - c) > kWidestArc) {
+          pair.wide.push_back(index);
+          continue;
+        }
+        pair.arcs.push_back({std::min(a, c), std::max(a, c), index});
+        pair.longest = std::max(pair.longest, std::abs(a - c));
+      }
+      std::sort(pair.arcs.begin(), pair.arcs.end(),
+                [](const EdgeArc& x, const EdgeArc& y) { return x.lo < y.lo; });
+    }
+  }
+}
+
+Eigen::Vector3d ConePlaneSet::Ray(int view, const Eigen::Vector2d& pixel) const {
+  return pixel_to_ray_[static_cast<size_t>(view)] * pixel.homogeneous();
+}
+
+double ConePlaneSet::Angle(const PairIndex& pair, const Eigen::Vector3d& direction) const {
+  return std::atan2(direction.dot(pair.u2), direction.dot(pair.u1));
+}
+
+bool ConePlaneSet::Contains(int view, const Eigen::Vector2d& x) const {
+  const RowIndex& rows = rows_[static_cast<size_t>(view)];
+  if (rows.rows.empty()) return false;
+  const double r = (x.y() - rows.y0) / rows.step;
+  if (r < 0 || r >= static_cast<double>(rows.rows.size())) return false;
+  bool inside = false;
+  for (int index : rows.rows[static_cast<size_t>(r)]) {
+    const Eigen::Vector2d& a = Plane(index).p;
+    const Eigen::Vector2d& b = Plane(index).q;
+    if ((a.y() > x.y()) != (b.y() > x.y()) &&
+        x.x() < (b.x() - a.x()) * (x.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+void ConePlaneSet::CandidateEdges(int view, int other, const Eigen::Vector3d& from,
+                                  const Eigen::Vector3d& to, std::vector<int>& out) const {
+  const PairIndex& pair = pairs_[static_cast<size_t>(view) * Views() + static_cast<size_t>(other)];
+  const double a = Angle(pair, from), c = Angle(pair, to);
+  if (std::abs(a - c) > kWidestArc) {
+    const auto& all = view_planes_[static_cast<size_t>(other)];
+    out.insert(out.end(), all.begin(), all.end());
+    return;
+  }
+  const double lo = std::min(a, c) - 1e-9, hi = std::max(a, c) + 1e-9;
+  out.insert(out.end(), pair.wide.begin(), pair.wide.end());
+  auto it = std::lower_bound(pair.arcs.begin(), pair.arcs.end(), lo - pair.longest,
+                             [](const EdgeArc& arc, double value) { return arc.lo < value; });
+  for (; it != pair.arcs.end() && it->lo <= hi; ++it) {
+    if (it->hi >= lo) out.push_back(it->plane);
+  }
+}
+
+}  // namespace silnet::aggregator

@@ -1,0 +1,75 @@
+#pragma once
+// The viewing-cone faces of a set of calibrated silhouettes (thesis 4.2): one plane per
+// contour edge, with the indexes the exact polyhedral hull needs to stay fast: for every
+// camera pair, the contour edges ordered by the epipolar half-plane they span (so a face
+// meets only the other view's edges in its own epipolar range), and per camera a row index
+// for point-in-silhouette tests.
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "aggregator/hulls/voxel_grid.h"
+#include "shared/geometry/camera_model.h"
+#include "shared/silhouette/silhouette_contour.h"
+
+namespace silnet::aggregator {
+
+// A contour edge p -> q of one camera's silhouette (undistorted pixels, silhouette on its
+// left) and so the plane of one viewing-cone face. `prev` / `next` are the planes of the edges
+// before and after it on the same ring.
+struct ConePlane {
+  int view = 0;
+  Eigen::Vector2d p, q;
+  int prev = -1, next = -1;
+};
+
+// The epipolar half-plane angles a contour edge spans, about one camera pair's baseline.
+struct EdgeArc {
+  double lo = 0, hi = 0;
+  int plane = -1;
+};
+
+// Every camera's cone planes and their indexes.
+class ConePlaneSet {
+ public:
+  // Builds the planes from one outline per camera (distortion removed) and indexes them for
+  // hulls inside `bounds` (which must not contain a camera centre).
+  ConePlaneSet(const std::vector<CameraModel>& cameras,
+               const std::vector<SilhouetteContours>& contours, const WorldBox& bounds);
+
+  const std::vector<ConePlane>& Planes() const { return planes_; }
+  const ConePlane& Plane(int index) const { return planes_[static_cast<size_t>(index)]; }
+  size_t Views() const { return view_planes_.size(); }
+  // Camera `view`'s undistorted projection matrix.
+  const Matrix34d& Projection(int view) const { return projections_[static_cast<size_t>(view)]; }
+  // World direction of the ray through an undistorted pixel of `view`, at unit depth.
+  Eigen::Vector3d Ray(int view, const Eigen::Vector2d& pixel) const;
+  // True if an undistorted pixel of `view` lies inside its silhouette (even-odd rule).
+  bool Contains(int view, const Eigen::Vector2d& pixel) const;
+  // Appends the planes of camera `other` whose epipolar range about the baseline to camera
+  // `view` can meet the range of the rays `from` and `to` of `view` (world directions).
+  void CandidateEdges(int view, int other, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                      std::vector<int>& out) const;
+
+ private:
+  struct PairIndex {
+    Eigen::Vector3d u1, u2;     // basis of the plane normal to the baseline
+    std::vector<EdgeArc> arcs;  // sorted by lo
+    double longest = 0;         // largest hi - lo in `arcs`
+    std::vector<int> wide;      // planes whose range could not be bounded
+  };
+  struct RowIndex {
+    double y0 = 0, step = 1;
+    std::vector<std::vector<int>> rows;  // planes whose y-range meets each row
+  };
+  double Angle(const PairIndex& pair, const Eigen::Vector3d& direction) const;
+
+  std::vector<ConePlane> planes_;
+  std::vector<std::vector<int>> view_planes_;
+  std::vector<Matrix34d> projections_;
+  std::vector<Eigen::Matrix3d> pixel_to_ray_;
+  std::vector<RowIndex> rows_;
+  std::vector<PairIndex> pairs_;  // [view * Views() + other]
+};
+
+}  // namespace silnet::aggregator

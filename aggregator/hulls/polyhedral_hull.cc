@@ -1,0 +1,439 @@
+#include "aggregator/hulls/polyhedral_hull.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <unordered_map>
+
+#include "aggregator/hulls/cone_face_region.h"
+#include "aggregator/hulls/mesh_check.h"
+#include "aggregator/hulls/viewing_cone_bounds.h"
+
+namespace silnet::aggregator {
+namespace {
+
+// Vertices closer than this fraction of the bounds' diagonal are one point.
+constexpr double kWeldTolerance = 1e-9;
+// A corner is at an event if their w differ by less than this fraction of the chart's range.
+constexpr double kEventTolerance = 1e-7;
+
+// A hull vertex named by what meets there: three planes (sorted, a < b < c), or a cut that
+// face `a`'s sweep made on its edge with plane `b` at its slab boundary -c - 1.
+struct VertexKey {
+  int a, b, c;
+  bool operator==(const VertexKey&) const = default;
+};
+
+struct VertexKeyHash {
+  size_t operator()(const VertexKey& k) const {
+    size_t h = static_cast<size_t>(k.a) * 0x9E3779B97F4A7C15ull;
+    h ^= static_cast<size_t>(k.b) + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2);
+    h ^= static_cast<size_t>(static_cast<unsigned>(k.c)) + 0x94D049BB133111EBull + (h << 6) +
+         (h >> 2);
+    return h;
+  }
+};
+
+VertexKey Triple(int a, int b, int c) {
+  std::array<int, 3> s = {a, b, c};
+  std::sort(s.begin(), s.end());
+  return {s[0], s[1], s[2]};
+}
+
+uint64_t EdgeKey(int owner, int line) {
+  return (static_cast<uint64_t>(static_cast<uint32_t>(owner)) << 32) | static_cast<uint32_t>(line);
+}
+
+// A corner of a face's trapezoid: chart w and the global vertex.
+struct Corner {
+  double w = 0;
+  int vertex = -1;
+};
+
+// One trapezoid of a face: between lines `lo` and `hi` over [a, b].
+struct Trapezoid {
+  int lo = -1, hi = -1;  // indices into the face's lines
+  double a = 0, b = 0;
+  Corner bottom_a, bottom_b, top_a, top_b;
+};
+
+// A face after the first pass: its trapezoids and the corners on each slab boundary.
+struct FaceCorners {
+  std::vector<Trapezoid> trapezoids;
+  std::unordered_map<double, std::vector<Corner>> boundary;  // lambda -> corners there
+};
+
+// A point of a face's polygon in its chart.
+struct ChartVertex {
+  double lambda, w;
+  int vertex;
+};
+
+double Cross(const ChartVertex& o, const ChartVertex& a, const ChartVertex& b) {
+  return (a.lambda - o.lambda) * (b.w - o.w) - (a.w - o.w) * (b.lambda - o.lambda);
+}
+
+// Triangulates a convex chart polygon (counter-clockwise). Points on its sides (collinear
+// with their neighbours) are kept as vertices, since the neighbouring face has them too: the
+// polygon is then fanned from a new vertex at its centroid (which `add_vertex` creates),
+// otherwise from its first vertex.
+template <typename AddVertex>
+void TriangulateConvex(const std::vector<ChartVertex>& polygon, bool reverse, AddVertex add_vertex,
+                       std::vector<std::array<int32_t, 3>>& triangles) {
+  const size_t n = polygon.size();
+  if (n < 3) return;
+  const auto emit = [&](int a, int b, int c) {
+    triangles.push_back(reverse ? std::array<int32_t, 3>{a, c, b}
+                                : std::array<int32_t, 3>{a, b, c});
+  };
+  bool collinear = false;
+  double area = 0, lambda = 0, w = 0;
+  for (size_t k = 0; k < n; ++k) {
+    const ChartVertex& prev = polygon[(k + n - 1) % n];
+    const ChartVertex& next = polygon[(k + 1) % n];
+    const double cross = Cross(prev, polygon[k], next);
+    const double scale = std::hypot(polygon[k].lambda - prev.lambda, polygon[k].w - prev.w) *
+                         std::hypot(next.lambda - polygon[k].lambda, next.w - polygon[k].w);
+    if (cross <= 1e-9 * scale) collinear = true;
+    area += Cross(polygon[0], polygon[k], next);
+    lambda += polygon[k].lambda;
+    w += polygon[k].w;
+  }
+  if (!(area > 0)) return;  // degenerate: no interior
+  if (!collinear) {
+    for (size_t k = 1; k + 1 < n; ++k)
+      emit(polygon[0].vertex, polygon[k].vertex, polygon[k + 1].vertex);
+    return;
+  }
+  const int centre = add_vertex(lambda / static_cast<double>(n), w / static_cast<double>(n));
+  for (size_t k = 0; k < n; ++k)
+    emit(centre, polygon[k].vertex, polygon[(k + 1) % n].vertex);
+}
+
+// Merges vertices closer than `tolerance` (where more than three cone faces meet, the
+// faces name the point by different triples), drops the triangles that collapse and the
+// vertices no triangle uses.
+TriangleMesh WeldCoincidentVertices(const std::vector<Eigen::Vector3d>& positions,
+                                    const std::vector<std::array<int32_t, 3>>& triangles,
+                                    double tolerance) {
+  std::vector<int> order(positions.size());
+  for (size_t v = 0; v < order.size(); ++v)
+    order[v] = static_cast<int>(v);
+  std::sort(order.begin(), order.end(), [&](int x, int y) {
+    return positions[static_cast<size_t>(x)].x() < positions[static_cast<size_t>(y)].x();
+  });
+  std::vector<int> target(positions.size());
+  for (size_t v = 0; v < target.size(); ++v)
+    target[v] = static_cast<int>(v);
+  for (size_t k = 0; k < order.size(); ++k) {
+    const Eigen::Vector3d& x = positions[static_cast<size_t>(order[k])];
+    for (size_t m = k; m-- > 0;) {
+      const Eigen::Vector3d& y = positions[static_cast<size_t>(order[m])];
+      if (x.x() - y.x() > tolerance) break;
+      if ((x - y).norm() <= tolerance) {
+        target[static_cast<size_t>(order[k])] = target[static_cast<size_t>(order[m])];
+        break;
+      }
+    }
+  }
+  TriangleMesh mesh;
+  std::vector<int> index(positions.size(), -1);
+  for (const auto& t : triangles) {
+    std::array<int32_t, 3> m;
+    for (size_t k = 0; k < 3; ++k) {
+      const size_t v = static_cast<size_t>(target[static_cast<size_t>(t[k])]);
+      if (index[v] < 0) {
+        index[v] = static_cast<int>(mesh.vertices.size());
+        mesh.vertices.push_back(positions[v].cast<float>());
+      }
+      m[k] = index[v];
+    }
+    if (m[0] != m[1] && m[1] != m[2] && m[0] != m[2]) mesh.triangles.push_back(m);
+  }
+  return mesh;
+}
+
+// Assembles the mesh from the faces' regions (two passes: corners, then polygons).
+class HullAssembler {
+ public:
+  HullAssembler(const std::vector<CameraModel>& cameras, const ConePlaneSet& set)
+      : cameras_(cameras), set_(set) {}
+
+  // Pass one: names the corners of every trapezoid of `region`.
+  void AddCorners(const FaceRegion& region) {
+    FaceCorners& face = faces_[region.plane];
+    const ConePlane& plane = set_.Plane(region.plane);
+    for (size_t s = 0; s < region.slabs.size(); ++s) {
+      const ChartSlab& slab = region.slabs[s];
+      for (const auto& [lo, hi] : slab.intervals) {
+        Trapezoid t;
+        t.lo = lo;
+        t.hi = hi;
+        t.a = slab.lambda_a;
+        t.b = slab.lambda_b;
+        const auto corner = [&](int line, double lambda, int boundary) {
+          const ChartLine& chart_line = region.lines[static_cast<size_t>(line)];
+          Corner c;
+          c.w = chart_line.WAt(lambda);
+          c.vertex = VertexFor(region, plane, chart_line.plane, lambda, c.w, boundary);
+          face.boundary[lambda].push_back(c);
+          return c;
+        };
+        t.bottom_a = corner(lo, t.a, static_cast<int>(s));
+        t.top_a = corner(hi, t.a, static_cast<int>(s));
+        t.bottom_b = corner(lo, t.b, static_cast<int>(s) + 1);
+        t.top_b = corner(hi, t.b, static_cast<int>(s) + 1);
+        face.trapezoids.push_back(t);
+      }
+    }
+    for (auto& [lambda, corners] : face.boundary) {
+      std::sort(corners.begin(), corners.end(),
+                [](const Corner& x, const Corner& y) { return x.w < y.w; });
+    }
+  }
+
+  // Pass two: triangulates every trapezoid of `region`, its edges split wherever the
+  // neighbouring faces have corners on them.
+  void AddTriangles(const FaceRegion& region) {
+    const FaceCorners& face = faces_.at(region.plane);
+    if (face.trapezoids.empty()) return;
+    ++stats_.hull_faces;
+    const ConePlane& plane = set_.Plane(region.plane);
+    const bool reverse = !ChartIsOutward(region, plane);
+    for (const Trapezoid& t : face.trapezoids) {
+      const ChartLine& lo = region.lines[static_cast<size_t>(t.lo)];
+      const ChartLine& hi = region.lines[static_cast<size_t>(t.hi)];
+      std::vector<ChartVertex> polygon;
+      const auto push = [&](double lambda, double w, int vertex) {
+        if (polygon.empty() || polygon.back().vertex != vertex)
+          polygon.push_back({lambda, w, vertex});
+      };
+      push(t.a, t.bottom_a.w, t.bottom_a.vertex);
+      for (const ChartVertex& x : EdgeCuts(region, plane, lo, t, false))
+        push(x.lambda, x.w, x.vertex);
+      push(t.b, t.bottom_b.w, t.bottom_b.vertex);
+      for (const Corner& c : SideCuts(face, t.b, t.bottom_b, t.top_b, false))
+        push(t.b, c.w, c.vertex);
+      push(t.b, t.top_b.w, t.top_b.vertex);
+      for (const ChartVertex& x : EdgeCuts(region, plane, hi, t, true))
+        push(x.lambda, x.w, x.vertex);
+      push(t.a, t.top_a.w, t.top_a.vertex);
+      for (const Corner& c : SideCuts(face, t.a, t.bottom_a, t.top_a, true))
+        push(t.a, c.w, c.vertex);
+      if (polygon.size() > 1 && polygon.back().vertex == polygon.front().vertex) polygon.pop_back();
+      const auto add_vertex = [&](double lambda, double w) {
+        positions_.push_back(region.Point(lambda, w));
+        return static_cast<int>(positions_.size()) - 1;
+      };
+      TriangulateConvex(polygon, reverse, add_vertex, triangles_);
+    }
+  }
+
+  // The mesh, with vertices closer than `tolerance` merged.
+  TriangleMesh Mesh(double tolerance) const {
+    return WeldCoincidentVertices(positions_, triangles_, tolerance);
+  }
+  const PolyhedralHullStats& Stats() const { return stats_; }
+
+ private:
+  // The vertex of a corner on line `line` at `lambda` (slab boundary `boundary`).
+  int VertexFor(const FaceRegion& region, const ConePlane& plane, int line, double lambda, double w,
+                int boundary) {
+    const Eigen::Vector3d position = region.Point(lambda, w);
+    std::optional<VertexKey> key;
+    if (lambda == 0) key = Triple(region.plane, plane.prev, line);
+    if (lambda == 1) key = Triple(region.plane, plane.next, line);
+    if (!key) {
+      const auto first =
+          std::lower_bound(region.events.begin(), region.events.end(), lambda,
+                           [](const ChartEvent& e, double value) { return e.lambda < value; });
+      for (auto e = first; e != region.events.end() && e->lambda == lambda; ++e) {
+        if (e->second >= 0 && (e->first == line || e->second == line) &&
+            std::abs(e->w - w) <= kEventTolerance * (region.w_max - region.w_min)) {
+          key = Triple(region.plane, e->first, e->second);
+          break;
+        }
+      }
+    }
+    const bool cut = !key;
+    if (cut) key = VertexKey{region.plane, line, -boundary - 1};
+    const auto [it, inserted] = ids_.try_emplace(*key, static_cast<int>(positions_.size()));
+    if (inserted) {
+      positions_.push_back(position);
+      Count(*key);
+      if (cut) cuts_[EdgeKey(region.plane, line)].push_back(it->second);
+    }
+    return it->second;
+  }
+
+  void Count(const VertexKey& key) {
+    if (key.c < 0) {
+      ++stats_.edge_points;
+      return;
+    }
+    const int va = set_.Plane(key.a).view;
+    const int vb = set_.Plane(key.b).view;
+    const int vc = set_.Plane(key.c).view;
+    if (va != vb && vb != vc && va != vc) {
+      ++stats_.triple_points;
+    } else {
+      ++stats_.viewing_edge_vertices;
+    }
+  }
+
+  // The cuts the face of `line` made on its edge with this face, strictly inside the
+  // trapezoid's span, in polygon order (increasing lambda below, decreasing above).
+  std::vector<ChartVertex> EdgeCuts(const FaceRegion& region, const ConePlane& plane,
+                                    const ChartLine& line, const Trapezoid& t, bool top) const {
+    std::vector<ChartVertex> out;
+    const auto it = cuts_.find(EdgeKey(line.plane, region.plane));
+    if (it == cuts_.end()) return out;
+    const Matrix34d P = cameras_[static_cast<size_t>(plane.view)].ProjectionMatrix();
+    const Eigen::Vector2d edge = plane.q - plane.p;
+    for (int vertex : it->second) {
+      const Eigen::Vector2d x =
+          (P * positions_[static_cast<size_t>(vertex)].homogeneous()).hnormalized();
+      const double lambda = (x - plane.p).dot(edge) / edge.squaredNorm();
+      if (lambda > t.a && lambda < t.b) out.push_back({lambda, line.WAt(lambda), vertex});
+    }
+    std::sort(out.begin(), out.end(), [top](const ChartVertex& x, const ChartVertex& y) {
+      return top ? x.lambda > y.lambda : x.lambda < y.lambda;
+    });
+    return out;
+  }
+
+  // Corners of the face's other trapezoids on a vertical side strictly between `lo` and
+  // `hi`, upwards (or downwards if `down`).
+  static std::vector<Corner> SideCuts(const FaceCorners& face, double lambda, const Corner& lo,
+                                      const Corner& hi, bool down) {
+    std::vector<Corner> out;
+    for (const Corner& c : face.boundary.at(lambda)) {
+      if (c.w > lo.w && c.w < hi.w && c.vertex != lo.vertex && c.vertex != hi.vertex &&
+          (out.empty() || out.back().vertex != c.vertex)) {
+        out.push_back(c);
+      }
+    }
+    if (down) std::reverse(out.begin(), out.end());
+    return out;
+  }
+
+  // True if counter-clockwise chart polygons face out of the hull.
+  bool ChartIsOutward(const FaceRegion& region, const ConePlane& plane) const {
+    const Eigen::Vector3d x0 = region.Point(0, region.w_min);
+    const Eigen::Vector3d x1 = region.Point(1, region.w_min);
+    const Eigen::Vector3d x2 = region.Point(0, region.w_max);
+    const Eigen::Vector3d chart_normal = (x1 - x0).cross(x2 - x0);
+    const CameraModel& camera = cameras_[static_cast<size_t>(plane.view)];
+    const Eigen::Vector2d edge = plane.q - plane.p;
+    const Eigen::Vector2d inside = 0.5 * (plane.p + plane.q) + Eigen::Vector2d(-edge.y(), edge.x());
+    const Eigen::Vector3d ray = camera.R.transpose() * camera.K.inverse() * inside.homogeneous();
+    Eigen::Vector3d outward = region.d_p.cross(region.d_q);
+    if (outward.dot(ray) > 0) outward = -outward;
+    return chart_normal.dot(outward) > 0;
+  }
+
+  const std::vector<CameraModel>& cameras_;
+  const ConePlaneSet& set_;
+  std::unordered_map<int, FaceCorners> faces_;
+  std::unordered_map<VertexKey, int, VertexKeyHash> ids_;
+  std::unordered_map<uint64_t, std::vector<int>> cuts_;
+  std::vector<Eigen::Vector3d> positions_;
+  std::vector<std::array<int32_t, 3>> triangles_;
+  PolyhedralHullStats stats_;
+};
+
+// The first camera whose silhouette touches its image border, or -1.
+int TouchesBorder(const std::vector<CameraModel>& cameras,
+                  const std::vector<SilhouetteContours>& contours) {
+  // Outline points of a border pixel lie 0.25 to 0.5 px outside the image's pixel centres.
+  for (size_t v = 0; v < cameras.size(); ++v) {
+    const float right = static_cast<float>(cameras[v].width) - 1.25f;
+    const float bottom = static_cast<float>(cameras[v].height) - 1.25f;
+    for (const ContourPolygon& polygon : contours[v].polygons) {
+      for (const Eigen::Vector2f& x : polygon.outer) {
+        if (x.x() < 0.25f || x.y() < 0.25f || x.x() > right || x.y() > bottom)
+          return static_cast<int>(v);
+      }
+    }
+  }
+  return -1;
+}
+
+}  // namespace
+
+PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& cameras,
+                                           const std::vector<SilhouetteContours>& contours,
+                                           const WorldBox& bounds) {
+  PolyhedralHullResult result;
+  if (cameras.size() < 2 || contours.size() != cameras.size()) {
+    result.reason = fmt::format(
+        "need one contour set per camera and at least two cameras ({} "
+        "cameras, {} contour sets)",
+        cameras.size(), contours.size());
+    return result;
+  }
+  for (size_t v = 0; v < cameras.size(); ++v) {
+    if (contours[v].polygons.empty()) {
+      result.reason = fmt::format("the silhouette of {} is empty", cameras[v].id);
+      return result;
+    }
+  }
+  if (const int v = TouchesBorder(cameras, contours); v >= 0) {
+    result.reason = fmt::format("the silhouette of {} touches the image border",
+                                cameras[static_cast<size_t>(v)].id);
+    return result;
+  }
+  const ConePlaneSet set(cameras, contours, bounds);
+  std::vector<FaceRegion> regions;
+  regions.reserve(set.Planes().size());
+  HullAssembler assembler(cameras, set);
+  for (size_t p = 0; p < set.Planes().size(); ++p) {
+    FaceRegion region = ComputeFaceRegion(cameras, set, static_cast<int>(p), bounds);
+    if (!region.success) {
+      result.reason = region.reason;
+      return result;
+    }
+    assembler.AddCorners(region);
+    regions.push_back(std::move(region));
+  }
+  for (const FaceRegion& region : regions)
+    assembler.AddTriangles(region);
+  result.mesh = assembler.Mesh(kWeldTolerance * bounds.diagonal().norm());
+  result.stats = assembler.Stats();
+  result.stats.cone_faces = set.Planes().size();
+  if (result.mesh.triangles.empty()) {
+    result.reason = "the viewing cones do not intersect: the hull is empty";
+    return result;
+  }
+  const MeshCheck check = CheckClosedManifold(result.mesh);
+  if (!check.closed_manifold) {
+    result.reason = "the polyhedral mesh is not a closed manifold: " + check.reason;
+    return result;
+  }
+  result.success = true;
+  return result;
+}
+
+PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& cameras,
+                                           const std::vector<cv::Mat>& masks,
+                                           const PolyhedralHullOptions& options) {
+  PolyhedralHullResult result;
+  const ViewingConeBounds bounds = ComputeViewingConeBounds(cameras, masks);
+  if (!bounds.success) {
+    result.reason = bounds.reason;
+    return result;
+  }
+  WorldBox box = bounds.box;
+  const Eigen::Vector3d pad = options.bounds_padding * box.sizes();
+  box.min() -= pad;
+  box.max() += pad;
+  ContourOptions contour_options;
+  contour_options.tolerance_px = options.contour_tolerance_px;
+  std::vector<SilhouetteContours> contours;
+  contours.reserve(masks.size());
+  for (const cv::Mat& mask : masks)
+    contours.push_back(ExtractContours(mask, contour_options));
+  return ComputePolyhedralHull(cameras, contours, box);
+}
+
+}  // namespace silnet::aggregator

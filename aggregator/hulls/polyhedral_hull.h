@@ -1,0 +1,63 @@
+#pragma once
+// The exact polyhedral visual hull (thesis 4.2, in the spirit of EPVH): the intersection of
+// the calibrated cameras' viewing cones over their silhouette contours (polygons with holes),
+// as a closed triangle mesh whose vertices are the hull's own: viewing-edge ends (a contour
+// vertex's ray meeting another cone), triple points (three cone faces meeting) and the points
+// where a face's sweep had to cut an edge, shared by both faces of that edge.
+//
+// Each cone face's region is computed on its own (cone_face_region.h); vertices are named by
+// the planes that meet there, so neighbouring faces agree on them without tolerances, and the
+// assembled mesh is checked to be closed and manifold. Near-degenerate configurations can
+// still break that; the result then says so and callers fall back to the voxel hull.
+//
+// Distortion is removed from contour points before building the cones (contour edges become
+// straight in the undistorted image).
+
+#include <opencv2/core/mat.hpp>
+#include <string>
+#include <vector>
+
+#include "aggregator/hulls/triangle_mesh.h"
+#include "aggregator/hulls/voxel_grid.h"
+#include "shared/geometry/camera_model.h"
+#include "shared/silhouette/silhouette_contour.h"
+
+namespace silnet::aggregator {
+
+// Counts describing the hull's structure.
+struct PolyhedralHullStats {
+  size_t cone_faces = 0;             // contour edges over all cameras
+  size_t hull_faces = 0;             // cone faces with a part on the hull
+  size_t viewing_edge_vertices = 0;  // a contour vertex's ray meeting another cone
+  size_t triple_points = 0;          // three cone faces of three cameras meeting
+  size_t edge_points = 0;            // cuts on cone-intersection edges from the sweeps
+};
+
+// The hull, or why there is none.
+struct PolyhedralHullResult {
+  bool success = false;
+  std::string reason;  // when !success
+  TriangleMesh mesh;   // closed, oriented, manifold when success
+  PolyhedralHullStats stats;
+};
+
+// Settings of the computation.
+struct PolyhedralHullOptions {
+  double contour_tolerance_px = 0.5;  // Douglas-Peucker tolerance of the contours from masks
+  double bounds_padding = 0.05;       // viewing-cone bounds are grown by this fraction per side
+};
+
+// Builds the hull from one silhouette outline per camera (pixels of the camera's image, as
+// ExtractContours gives them) inside `bounds`, which must contain the hull and lie in front
+// of every camera. Fails as data (never throws) on empty silhouettes, silhouettes touching
+// the image border (the subject may continue outside it), or a mesh that is not closed.
+PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& cameras,
+                                           const std::vector<SilhouetteContours>& contours,
+                                           const WorldBox& bounds);
+
+// The same from CV_8UC1 masks (non-zero = silhouette), with bounds from the viewing cones.
+PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& cameras,
+                                           const std::vector<cv::Mat>& masks,
+                                           const PolyhedralHullOptions& options = {});
+
+}  // namespace silnet::aggregator

@@ -1,0 +1,118 @@
+// The exact polyhedral hull against analytic bounds on a sphere and against the voxel hull.
+
+#include "aggregator/hulls/polyhedral_hull.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <vector>
+
+#include "aggregator/hulls/mesh_check.h"
+#include "aggregator/hulls/mesh_measure.h"
+#include "aggregator/hulls/voxel_hull.h"
+#include "tests/aggregator/hulls/hull_comparison.h"
+#include "tests/aggregator/hulls/sphere_scene.h"
+
+namespace silnet::aggregator {
+namespace {
+
+using namespace hull_testing;
+
+TEST(PolyhedralHullTest, SphereHullIsClosedAndLiesBetweenTheSphereAndTheConeBound) {
+  const SphereScene scene = MakeSphereScene(0.0, true);
+  const PolyhedralHullResult hull = ComputePolyhedralHull(scene.cameras, scene.masks);
+  ASSERT_TRUE(hull.success) << hull.reason;
+  const MeshCheck check = CheckClosedManifold(hull.mesh);
+  EXPECT_TRUE(check.closed_manifold) << check.reason;
+  EXPECT_EQ(check.euler_characteristic, 2);
+  EXPECT_GT(hull.stats.triple_points, 20u);
+  EXPECT_GT(hull.stats.viewing_edge_vertices, 100u);
+
+  // Vertices lie on the cones: outside the sphere (up to the contour's pixel and the
+  // simplification tolerance, 2 px at the far side) and inside the bound of the cone
+  // intersection (the bound allows 0.75 px; the contour adds up to 1 px more, the jittered
+  // ring up to 4 cm of height and 2 cm of aim).
+  const double pixel = (kRingRadius + kRadius) / kFocal;
+  const double rho = ConeIntersectionRadius() + 2 * pixel + 0.01;
+  double nearest = 1e9, farthest = 0;
+  for (const Eigen::Vector3f& x : hull.mesh.vertices) {
+    const double d = (x.cast<double>() - SphereCentre()).norm();
+    nearest = std::min(nearest, d);
+    farthest = std::max(farthest, d);
+  }
+  EXPECT_GE(nearest, kRadius - 2 * pixel);
+  EXPECT_LE(farthest, rho);
+  const double volume = MeshVolume(hull.mesh);
+  const double sphere_volume = 4.0 / 3.0 * std::numbers::pi * std::pow(kRadius, 3);
+  EXPECT_GT(volume, sphere_volume * std::pow(1 - 2 * pixel / kRadius, 3));
+  EXPECT_LT(volume, sphere_volume * std::pow(rho / kRadius, 3));
+  std::printf(
+      "polyhedral sphere hull: %zu vertices, %zu triangles, %zu of %zu cone faces on the hull, "
+      "%zu triple points, %zu viewing-edge vertices, %zu edge points; |X - S| in [%.4f, %.4f] "
+      "m (sphere %.2f, bound %.4f); volume %.4f m^3 (sphere %.4f)\n",
+      hull.mesh.vertices.size(), hull.mesh.triangles.size(), hull.stats.hull_faces,
+      hull.stats.cone_faces, hull.stats.triple_points, hull.stats.viewing_edge_vertices,
+      hull.stats.edge_points, nearest, farthest, kRadius, rho, volume, sphere_volume);
+}
+
+TEST(PolyhedralHullTest, AgreesWithTheVoxelHullWithinOneVoxel) {
+  for (const double voxel : {0.02, 0.01}) {
+    const SphereScene scene = MakeSphereScene(0.0, true);
+    const PolyhedralHullResult hull = ComputePolyhedralHull(scene.cameras, scene.masks);
+    ASSERT_TRUE(hull.success) << hull.reason;
+    VoxelHullOptions options;
+    options.voxel_size = voxel;
+    const VoxelHullResult carved = CarveVoxelHull(scene.cameras, scene.masks, options);
+    ASSERT_TRUE(carved.success) << carved.reason;
+    const HullDifference difference =
+        CompareWithCarvedHull(hull.mesh, RasterizeMesh(hull.mesh, carved.grid), carved.grid);
+    EXPECT_EQ(difference.far, 0u);
+    std::printf("voxel %.0f mm: %zu of %zu voxels differ, %zu farther than a voxel\n", voxel * 1000,
+                difference.differing, carved.grid.CountOccupied(), difference.far);
+    EXPECT_LT(static_cast<double>(difference.differing),
+              0.1 * static_cast<double>(carved.grid.CountOccupied()));
+  }
+}
+
+TEST(PolyhedralHullTest, DistortedCamerasGiveTheSameSphere) {
+  const SphereScene plain = MakeSphereScene(0.0, true);
+  const SphereScene distorted = MakeSphereScene(-0.12, true);
+  const PolyhedralHullResult a = ComputePolyhedralHull(plain.cameras, plain.masks);
+  const PolyhedralHullResult b = ComputePolyhedralHull(distorted.cameras, distorted.masks);
+  ASSERT_TRUE(a.success) << a.reason;
+  ASSERT_TRUE(b.success) << b.reason;
+  EXPECT_NEAR(MeshVolume(b.mesh) / MeshVolume(a.mesh), 1.0, 0.02);
+}
+
+TEST(PolyhedralHullTest, SymmetricRingIsClosedOrReportedNeverOpen) {
+  // The exactly symmetric ring makes four and more cone faces meet at single points; the
+  // result must be a closed mesh or a failure with a reason (callers then carve voxels).
+  const SphereScene scene = MakeSphereScene();
+  const PolyhedralHullResult hull = ComputePolyhedralHull(scene.cameras, scene.masks);
+  if (hull.success) {
+    EXPECT_TRUE(CheckClosedManifold(hull.mesh).closed_manifold);
+  } else {
+    EXPECT_FALSE(hull.reason.empty());
+  }
+}
+
+TEST(PolyhedralHullTest, ReportsEmptyAndCutOffSilhouettes) {
+  SphereScene scene = MakeSphereScene(0.0, true);
+  std::vector<cv::Mat> masks = scene.masks;
+  masks[3] = cv::Mat(masks[3].size(), CV_8UC1, cv::Scalar(0));  // a new image, not a write
+  PolyhedralHullResult hull = ComputePolyhedralHull(scene.cameras, masks);
+  EXPECT_FALSE(hull.success);
+  EXPECT_NE(hull.reason.find("ring3"), std::string::npos) << hull.reason;
+
+  masks = scene.masks;
+  masks[5] = masks[5].clone();
+  masks[5].colRange(0, 330).setTo(255);  // the silhouette now runs off the image
+  hull = ComputePolyhedralHull(scene.cameras, masks);
+  EXPECT_FALSE(hull.success);
+  EXPECT_NE(hull.reason.find("border"), std::string::npos) << hull.reason;
+}
+
+}  // namespace
+}  // namespace silnet::aggregator
