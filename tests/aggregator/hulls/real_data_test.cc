@@ -14,6 +14,7 @@
 #include "aggregator/hulls/hull_sequence_job.h"
 #include "aggregator/hulls/mesh_check.h"
 #include "aggregator/hulls/ply_io.h"
+#include "aggregator/hulls/polyhedral_hull.h"
 #include "aggregator/hulls/real_datasets.h"
 #include "aggregator/hulls/viewing_cone_bounds.h"
 #include "aggregator/hulls/voxel_hull.h"
@@ -107,6 +108,55 @@ TEST(RealDataHullTest, TsinghuaWd2) {
   for (size_t c = 0; c < hull.views.size(); ++c) {
     EXPECT_LE(hull.views[c].missed_fraction, kMissed) << hull.views[c].camera_id;
     EXPECT_LE(hull.missed_beyond_2px[c], kMissedBeyond2Px) << hull.views[c].camera_id;
+  }
+}
+
+// Measured misses of the polyhedral dancer hull (contours simplified to 0.5 px): worst
+// 4.37 % (dancer0005), dancer0004 7.93 % (the streak above).
+constexpr double kPolyhedralMissed = 0.05;
+constexpr double kPolyhedralDancer4Missed = 0.085;
+
+// The polyhedral hull of a real capture: closed, and reprojecting onto the silhouettes.
+void CheckPolyhedral(const RealCapture& capture, const std::string& name) {
+  const PolyhedralHullResult hull = ComputePolyhedralHull(capture.cameras, capture.masks);
+  ASSERT_TRUE(hull.success) << name << ": " << hull.reason;
+  const MeshCheck check = CheckClosedManifold(hull.mesh);
+  EXPECT_TRUE(check.closed_manifold) << check.reason;
+  const std::vector<ViewReprojection> views =
+      MeasureHullReprojection(hull.mesh, capture.cameras, capture.masks);
+  std::printf("%s polyhedral: %zu triangles, %zu triple points\n", name.c_str(),
+              hull.mesh.triangles.size(), hull.stats.triple_points);
+  for (const ViewReprojection& v : views) {
+    std::printf("  %-10s missed %.3f %%  extra %.3f %%\n", v.camera_id.c_str(),
+                100 * v.missed_fraction, 100 * v.spurious_fraction);
+    EXPECT_LE(v.missed_fraction,
+              v.camera_id == "dancer0004" ? kPolyhedralDancer4Missed : kPolyhedralMissed)
+        << v.camera_id;
+  }
+}
+
+TEST(RealDataHullTest, PolyhedralHullOfTheDancer) {
+  const std::filesystem::path folder = kData / "inria-dancer-silhouettes";
+  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  RealCapture capture = LoadInriaDancer(folder);
+  for (cv::Mat& mask : capture.masks)
+    mask = KeepLargestComponent(mask);
+  CheckPolyhedral(capture, "dancer");
+}
+
+TEST(RealDataHullTest, PolyhedralHullOfWd2IsClosedOrReported) {
+  // Known open: with 20 views the assembled mesh still has open edges (a configuration
+  // the vertex naming does not yet resolve); it must then fail with a reason so the hull
+  // job can carve voxels instead, never return an open mesh as a hull.
+  const std::filesystem::path folder = kData / "tsinghua-wd2-20cam";
+  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  const RealCapture capture = LoadTsinghuaWd2(folder, false);
+  const PolyhedralHullResult hull = ComputePolyhedralHull(capture.cameras, capture.masks);
+  if (hull.success) {
+    EXPECT_TRUE(CheckClosedManifold(hull.mesh).closed_manifold);
+  } else {
+    EXPECT_FALSE(hull.reason.empty());
+    std::printf("wd2 polyhedral: %s\n", hull.reason.c_str());
   }
 }
 
