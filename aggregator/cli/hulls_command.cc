@@ -14,7 +14,7 @@ namespace {
 struct HullsArgs {
   std::string input, calibration, frames, out;
   double voxel = 0;
-  bool no_interpolation = false, overlays = false;
+  bool no_interpolation = false, overlays = false, polyhedral = false;
   int threads = 0;
 };
 
@@ -42,6 +42,7 @@ int RunHulls(const HullsArgs& args) {
   config.options.voxel_size = args.voxel;
   if (args.no_interpolation) config.options.interpolate = false;
   config.options.overlays = args.overlays;
+  config.options.polyhedral = args.polyhedral;
   config.options.threads = args.threads;
   const auto run = RunWithProgress(
       "hulls", [&](Progress* progress) { return RunHullSequenceJob(config, progress); });
@@ -76,6 +77,8 @@ Command AddHullsCommand(CLI::App& app) {
   cmd->add_flag("--no-interpolation", args->no_interpolation,
                 "use each camera's nearest frame instead of sub-frame silhouettes");
   cmd->add_flag("--overlays", args->overlays, "write reprojection overlays under OUT/overlays/");
+  cmd->add_flag("--polyhedral", args->polyhedral,
+                "exact polyhedral hulls (slower); frames where it fails are carved in voxels");
   cmd->add_option("--threads", args->threads, "threads (0 = all cores)")->capture_default_str();
   return {cmd, [args] { return RunHulls(*args); }};
 }

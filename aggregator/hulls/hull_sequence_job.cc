@@ -12,7 +12,9 @@
 
 #include "aggregator/hulls/boundary_mesh.h"
 #include "aggregator/hulls/mesh_check.h"
+#include "aggregator/hulls/mesh_measure.h"
 #include "aggregator/hulls/ply_io.h"
+#include "aggregator/hulls/polyhedral_hull.h"
 #include "aggregator/hulls/silhouette_interpolation.h"
 #include "aggregator/hulls/viewing_cone_bounds.h"
 #include "aggregator/hulls/voxel_hull.h"
@@ -149,12 +151,26 @@ HullFrameResult BuildFrame(const DatasetLayout& layout, const std::vector<Camera
   std::vector<cv::Mat> masks(cameras.size());
   for (size_t c = 0; c < cameras.size(); ++c)
     masks[c] = MaskAt(layout, cameras[c], sources[c]);
-  const VoxelHullResult hull = CarveVoxelHull(cameras, masks, carve);
-  if (!hull.success) {
-    result.reason = hull.reason;
-    return result;
+  TriangleMesh mesh;
+  if (config.options.polyhedral) {
+    PolyhedralHullResult exact = ComputePolyhedralHull(cameras, masks);
+    if (exact.success) {
+      mesh = std::move(exact.mesh);
+      result.method = "polyhedral";
+    } else {
+      result.polyhedral_failure = exact.reason;
+      spdlog::warn("frame {}: polyhedral hull failed ({}); carving voxels", frame, exact.reason);
+    }
   }
-  const TriangleMesh mesh = ExtractBoundaryMesh(hull.grid);
+  if (result.method.empty()) {
+    const VoxelHullResult hull = CarveVoxelHull(cameras, masks, carve);
+    if (!hull.success) {
+      result.reason = hull.reason;
+      return result;
+    }
+    mesh = ExtractBoundaryMesh(hull.grid);
+    result.method = "voxel";
+  }
   if (mesh.triangles.empty()) {
     result.reason = "the silhouettes do not intersect: the hull is empty";
     return result;
@@ -163,7 +179,7 @@ HullFrameResult BuildFrame(const DatasetLayout& layout, const std::vector<Camera
   result.vertices = mesh.vertices.size();
   result.triangles = mesh.triangles.size();
   result.closed_manifold = CheckClosedManifold(mesh).closed_manifold;
-  result.volume_m3 = static_cast<double>(hull.grid.CountOccupied()) * std::pow(carve.voxel_size, 3);
+  result.volume_m3 = MeshVolume(mesh);
   result.file = PlyName(frame);
   WritePlyMesh((config.output / result.file).string(), mesh);
   for (size_t c = 0; c < cameras.size(); ++c) {
@@ -212,7 +228,8 @@ void WriteIndex(const HullSequenceConfig& config, const HullSequenceResult& resu
     }
     fs << "file" << f.file << "vertices" << static_cast<int>(f.vertices) << "faces"
        << static_cast<int>(f.triangles) << "closed_manifold" << static_cast<int>(f.closed_manifold)
-       << "volume" << f.volume_m3;
+       << "volume" << f.volume_m3 << "method" << f.method;
+    if (!f.polyhedral_failure.empty()) fs << "polyhedral_failure" << f.polyhedral_failure;
     fs << "views"
        << "[";
     for (const ViewReprojection& v : f.views) {

@@ -27,6 +27,8 @@ namespace silnet::aggregator {
 
 // Settings of the job.
 struct HullSequenceOptions {
+  bool polyhedral = false;           // exact polyhedral hull (polyhedral_hull.h), carving the
+                                     // voxels instead for a frame where it fails
   double voxel_size = 0;             // metres; 0 = 1/200 of the first frame's bounds diagonal
   std::optional<bool> interpolate;   // sub-frame silhouettes; unset = on iff some f_c is
                                      // non-integer
@@ -58,7 +60,9 @@ struct HullFrameResult {
   std::string file;    // PLY file name inside the output folder
   size_t vertices = 0, triangles = 0;
   bool closed_manifold = false;
-  double volume_m3 = 0;  // occupied voxels times the voxel volume (the mesh's exact volume)
+  double volume_m3 = 0;                 // the mesh's enclosed volume
+  std::string method;                   // "polyhedral" or "voxel"
+  std::string polyhedral_failure;       // why the polyhedral hull fell back to voxels, if it did
   std::vector<ViewReprojection> views;  // against the silhouettes the hull was carved from
 };
 

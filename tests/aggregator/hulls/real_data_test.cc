@@ -13,6 +13,7 @@
 #include "aggregator/hulls/hull_reprojection.h"
 #include "aggregator/hulls/hull_sequence_job.h"
 #include "aggregator/hulls/mesh_check.h"
+#include "aggregator/hulls/mesh_measure.h"
 #include "aggregator/hulls/ply_io.h"
 #include "aggregator/hulls/polyhedral_hull.h"
 #include "aggregator/hulls/real_datasets.h"
@@ -241,6 +242,25 @@ TEST(HullSequenceJobTest, WritesMeshesIndexAndOverlays) {
   EXPECT_EQ(frames[0]["views"].size(), data.cameras.size());
   EXPECT_NEAR(static_cast<double>(frames[0]["views"][0]["missed_fraction"]),
               result.frames[0].views[0].missed_fraction, 1e-12);
+}
+
+TEST(HullSequenceJobTest, PolyhedralMethodWritesClosedExactHulls) {
+  const SimulatedDataset data;
+  HullSequenceConfig config = data.Config(4, 7);
+  config.options.polyhedral = true;
+  const HullSequenceResult result = RunHullSequenceJob(config, nullptr);
+  ASSERT_EQ(result.frames.size(), 3u);
+  for (const HullFrameResult& frame : result.frames) {
+    ASSERT_TRUE(frame.success) << frame.reason;
+    EXPECT_EQ(frame.method, "polyhedral") << frame.polyhedral_failure;
+    EXPECT_TRUE(frame.closed_manifold);
+    const TriangleMesh mesh = ReadPlyMesh((config.output / frame.file).string());
+    EXPECT_NEAR(MeshVolume(mesh), frame.volume_m3, 1e-6);
+    for (const ViewReprojection& view : frame.views)
+      EXPECT_LE(view.missed_fraction, 0.02) << view.camera_id << " frame " << frame.frame;
+  }
+  cv::FileStorage index((config.output / "hulls.yaml").string(), cv::FileStorage::READ);
+  EXPECT_EQ(static_cast<std::string>(index["frames"][0]["method"]), "polyhedral");
 }
 
 TEST(HullSequenceJobTest, LeavesOutCamerasTheCalibrationCouldNotPlace) {
