@@ -85,11 +85,16 @@ TotalReprojection Total(const std::vector<ViewReprojection>& views) {
   return total;
 }
 
-TEST(SubjectHullTest, SynchronisedCaptureReprojectsOntoTheSilhouettes) {
+// The synchronised ring (seed 3) watching the subject walk at 0.9 m/s.
+Capture SynchronisedRing() {
   sim::CameraNetworkOptions network;
   network.seed = 3;
   network.max_offset = 0.0;
-  const Capture capture = MakeCapture(network, 0.9);
+  return MakeCapture(network, 0.9);
+}
+
+TEST(SubjectHullTest, SynchronisedCaptureReprojectsOntoTheSilhouettes) {
+  const Capture capture = SynchronisedRing();
   silnet::testing::TempDir dir;
   for (double time : {1.0, 4.3}) {
     const std::vector<cv::Mat> masks = capture.MasksAt(time);
@@ -169,10 +174,7 @@ std::vector<Eigen::Vector3d> TrueSurface(const std::vector<sim::Primitive>& part
 }
 
 TEST(SubjectHullTest, PolyhedralHullContainsTheSubjectAndMatchesTheVoxelHull) {
-  sim::CameraNetworkOptions network;
-  network.seed = 3;
-  network.max_offset = 0.0;
-  const Capture capture = MakeCapture(network, 0.9);
+  const Capture capture = SynchronisedRing();
   for (double time : {1.0, 2.0, 3.0, 4.3}) {
     const std::vector<cv::Mat> masks = capture.MasksAt(time);
     const PolyhedralHullResult hull = ComputePolyhedralHull(capture.cameras, masks);
