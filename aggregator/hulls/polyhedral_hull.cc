@@ -156,8 +156,7 @@ TriangleMesh WeldCoincidentVertices(const std::vector<Eigen::Vector3d>& position
 // Assembles the mesh from the faces' regions (two passes: corners, then polygons).
 class HullAssembler {
  public:
-  HullAssembler(const std::vector<CameraModel>& cameras, const ConePlaneSet& set)
-      : cameras_(cameras), set_(set) {}
+  explicit HullAssembler(const ConePlaneSet& set) : set_(set) {}
 
   // Pass one: names the corners of every trapezoid of `region`.
   void AddCorners(const FaceRegion& region) {
@@ -288,7 +287,7 @@ class HullAssembler {
     std::vector<ChartVertex> out;
     const auto it = cuts_.find(EdgeKey(line.plane, region.plane));
     if (it == cuts_.end()) return out;
-    const Matrix34d P = cameras_[static_cast<size_t>(plane.view)].ProjectionMatrix();
+    const Matrix34d& P = set_.Projection(plane.view);
     const Eigen::Vector2d edge = plane.q - plane.p;
     for (int vertex : it->second) {
       const Eigen::Vector2d x =
@@ -323,16 +322,14 @@ class HullAssembler {
     const Eigen::Vector3d x1 = region.Point(1, region.w_min);
     const Eigen::Vector3d x2 = region.Point(0, region.w_max);
     const Eigen::Vector3d chart_normal = (x1 - x0).cross(x2 - x0);
-    const CameraModel& camera = cameras_[static_cast<size_t>(plane.view)];
     const Eigen::Vector2d edge = plane.q - plane.p;
     const Eigen::Vector2d inside = 0.5 * (plane.p + plane.q) + Eigen::Vector2d(-edge.y(), edge.x());
-    const Eigen::Vector3d ray = camera.R.transpose() * camera.K.inverse() * inside.homogeneous();
+    const Eigen::Vector3d ray = set_.Ray(plane.view, inside);
     Eigen::Vector3d outward = region.d_p.cross(region.d_q);
     if (outward.dot(ray) > 0) outward = -outward;
     return chart_normal.dot(outward) > 0;
   }
 
-  const std::vector<CameraModel>& cameras_;
   const ConePlaneSet& set_;
   std::unordered_map<int, FaceCorners> faces_;
   std::unordered_map<VertexKey, int, VertexKeyHash> ids_;
@@ -386,7 +383,7 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
   const ConePlaneSet set(cameras, contours, bounds);
   std::vector<FaceRegion> regions;
   regions.reserve(set.Planes().size());
-  HullAssembler assembler(cameras, set);
+  HullAssembler assembler(set);
   for (size_t p = 0; p < set.Planes().size(); ++p) {
     FaceRegion region = ComputeFaceRegion(cameras, set, static_cast<int>(p), bounds);
     if (!region.success) {
