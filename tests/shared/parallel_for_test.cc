@@ -17,14 +17,16 @@ TEST(ParallelFor, RunsEveryIndexExactlyOnce) {
 }
 
 TEST(ParallelFor, RethrowsTheFirstErrorAndStops) {
+  // Every item throws, so each thread stops after its first item whatever the scheduling.
   std::atomic<int> calls{0};
   EXPECT_THROW(ParallelFor(100000, 2,
-                           [&](size_t i) {
+                           [&](size_t) {
                              calls++;
-                             if (i == 10) throw std::runtime_error("boom");
+                             throw std::runtime_error("boom");
                            }),
                std::runtime_error);
-  EXPECT_LT(calls.load(), 100000);
+  EXPECT_GE(calls.load(), 1);
+  EXPECT_LE(calls.load(), 2);
 }
 
 TEST(ParallelFor, ResolvesThreadCounts) {
