@@ -1,6 +1,7 @@
 #include "shared/dds/domain_config.h"
 
 #include <cstdlib>
+#include <filesystem>
 #include <string_view>
 
 #include "shared/util/check.h"
@@ -18,6 +19,59 @@ bool IsXmlSafe(std::string_view text) {
     if (c == '<' || c == '>' || c == '&' || c == '"' || c == '\'') return false;
   }
   return true;
+}
+
+// The files of one identity in a security folder, in the order Cyclone's <Security> wants.
+struct SecurityFiles {
+  std::filesystem::path identity_ca, certificate, private_key, permissions_ca, governance,
+      permissions;
+};
+
+SecurityFiles LocateSecurityFiles(const std::string& dir, const std::string& identity) {
+  const std::filesystem::path root(dir);
+  SecurityFiles files{root / "identity_ca.pem",    root / identity / "cert.pem",
+                      root / identity / "key.pem", root / "permissions_ca.pem",
+                      root / "governance.p7s",     root / identity / "permissions.p7s"};
+  for (const auto* file : {&files.identity_ca, &files.certificate, &files.private_key,
+                           &files.permissions_ca, &files.governance, &files.permissions}) {
+    if (!std::filesystem::is_regular_file(*file)) {
+      throw InputError("DDS security file " + file->string() + " is missing (identity '" +
+                       identity + "'; make one with scripts/make-test-pki)");
+    }
+  }
+  return files;
+}
+
+std::string FileUri(const std::filesystem::path& path) {
+  const std::string text = std::filesystem::absolute(path).lexically_normal().string();
+  if (!IsXmlSafe(text))
+    throw InputError("DDS security path " + text + " has XML special characters");
+  return "file:" + text;
+}
+
+std::string SecurityXml(const std::string& dir, const std::string& identity) {
+  const SecurityFiles f = LocateSecurityFiles(dir, identity);
+  return "<Security><Authentication>"
+         "<IdentityCA>" +
+         FileUri(f.identity_ca) +
+         "</IdentityCA>"
+         "<IdentityCertificate>" +
+         FileUri(f.certificate) +
+         "</IdentityCertificate>"
+         "<PrivateKey>" +
+         FileUri(f.private_key) +
+         "</PrivateKey>"
+         "</Authentication><AccessControl>"
+         "<PermissionsCA>" +
+         FileUri(f.permissions_ca) +
+         "</PermissionsCA>"
+         "<Governance>" +
+         FileUri(f.governance) +
+         "</Governance>"
+         "<Permissions>" +
+         FileUri(f.permissions) +
+         "</Permissions>"
+         "</AccessControl><Cryptographic/></Security>";
 }
 
 }  // namespace
@@ -39,11 +93,19 @@ DomainConfig DomainConfig::FromEnvironment() {
     config.loopback = v == "1";
   }
   if (const char* tag = GetEnv("SILNET_DDS_TAG")) config.discovery_tag = tag;
+  if (const char* dir = GetEnv("SILNET_DDS_SECURITY")) config.security_dir = dir;
+  if (const char* identity = GetEnv("SILNET_DDS_IDENTITY")) config.security_identity = identity;
+  if (config.security_dir.empty() != config.security_identity.empty()) {
+    throw InputError(
+        "DDS security needs both SILNET_DDS_SECURITY (the PKI folder) and SILNET_DDS_IDENTITY");
+  }
+  if (!config.security_dir.empty())
+    LocateSecurityFiles(config.security_dir, config.security_identity);
   return config;
 }
 
 bool DomainConfig::NeedsExplicitDomain() const {
-  return loopback || !discovery_tag.empty() || !extra_domain_xml.empty();
+  return loopback || !discovery_tag.empty() || !security_dir.empty() || !extra_domain_xml.empty();
 }
 
 std::string DomainConfig::ToXml() const {
@@ -65,6 +127,7 @@ std::string DomainConfig::ToXml() const {
   }
   if (!discovery_tag.empty()) xml += "<Tag>" + discovery_tag + "</Tag>";
   xml += "</Discovery>";
+  if (!security_dir.empty()) xml += SecurityXml(security_dir, security_identity);
   xml += extra_domain_xml;
   xml += "</Domain></CycloneDDS>";
   return xml;
@@ -74,6 +137,7 @@ std::string DomainConfig::Describe() const {
   std::string text = "domain " + std::to_string(domain_id);
   text += loopback ? ", loopback" : ", system network";
   if (!discovery_tag.empty()) text += ", tag '" + discovery_tag + "'";
+  if (!security_dir.empty()) text += ", secure as '" + security_identity + "'";
   if (!extra_domain_xml.empty()) text += ", extra configuration";
   return text;
 }

@@ -19,15 +19,22 @@ struct DomainConfig {
   bool loopback = false;
   // Participants whose tags differ ignore each other (empty: no tag).
   std::string discovery_tag;
-  // Extra XML placed inside <Domain> (e.g. a <Security> block); empty for none.
+  // DDS Security: a folder made by scripts/make-test-pki (or laid out alike: identity_ca.pem,
+  // permissions_ca.pem, governance.p7s, <identity>/{cert,key,permissions}) and the identity
+  // this process authenticates as. Empty folder: no security.
+  std::string security_dir;
+  std::string security_identity;
+  // Extra XML placed inside <Domain>; empty for none.
   std::string extra_domain_xml;
 
-  // Reads SILNET_DDS_DOMAIN (id), SILNET_DDS_LOOPBACK (1/0) and SILNET_DDS_TAG; unset
-  // variables keep the defaults above. Throws InputError on a malformed value.
+  // Reads SILNET_DDS_DOMAIN (id), SILNET_DDS_LOOPBACK (1/0), SILNET_DDS_TAG,
+  // SILNET_DDS_SECURITY (folder) and SILNET_DDS_IDENTITY; unset variables keep the defaults
+  // above. Throws InputError on a malformed value, an identity without a security folder (or
+  // the reverse), or a security file that is missing.
   static DomainConfig FromEnvironment();
 
-  // True when the domain must be created with an explicit configuration (loopback, tag or
-  // extra XML); otherwise Cyclone's own configuration (CYCLONEDDS_URI) applies.
+  // True when the domain must be created with an explicit configuration (loopback, tag,
+  // security or extra XML); otherwise Cyclone's own configuration (CYCLONEDDS_URI) applies.
   bool NeedsExplicitDomain() const;
   // The Cyclone XML configuration for this domain.
   std::string ToXml() const;

@@ -1,8 +1,11 @@
 // silnet-dds-probe: a minimal second process for DDS tests.
-//   silnet-dds-probe publish N      wait for a reader, write N HullFrame samples (camera
-//                                   probe, frame_index 0..N-1), wait for acknowledgements
+//   silnet-dds-probe publish N [S]  wait up to S seconds (default 20) for a reader (exit 3
+//                                   if none), write N HullFrame samples (camera probe,
+//                                   frame_index 0..N-1), wait for acknowledgements
 //   silnet-dds-probe receive N S    print each sample's frame_index; exit 0 once N
 //                                   arrived, 3 after S seconds without them
+//   silnet-dds-probe try-write T    create a writer for topic T (calibration or command):
+//                                   exit 0 if allowed, 6 if DDS Security refuses it
 // The domain comes from SILNET_DDS_* (shared/dds/domain_config.h).
 
 #include <chrono>
@@ -14,19 +17,46 @@
 
 using namespace silnet::dds;
 
+namespace {
+
+// 0 when a writer for T can be created, 6 when DDS Security refuses it.
+template <class T>
+int TryWrite(const Participant& participant) {
+  try {
+    Topic<T> topic(participant);
+    Writer<T> writer(topic);
+    return 0;
+  } catch (const DdsError& e) {
+    std::fprintf(stderr, "silnet-dds-probe: %s\n", e.what());
+    return e.code() == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY ? 6 : 1;
+  }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: silnet-dds-probe publish N | receive N SECONDS\n");
+    std::fprintf(
+        stderr,
+        "usage: silnet-dds-probe publish N [SECONDS] | receive N SECONDS | try-write TOPIC\n");
     return 2;
   }
   const std::string mode = argv[1];
   const int count = std::atoi(argv[2]);
   try {
     Participant participant;
+    if (mode == "try-write") {
+      const std::string topic = argv[2];
+      if (topic == "calibration") return TryWrite<silnet_wire_Calibration>(participant);
+      if (topic == "command") return TryWrite<silnet_wire_Command>(participant);
+      std::fprintf(stderr, "unknown topic '%s'\n", topic.c_str());
+      return 2;
+    }
     Topic<silnet_wire_HullFrame> topic(participant);
     if (mode == "publish") {
       Writer<silnet_wire_HullFrame> writer(topic);
-      if (!writer.WaitForReaders(1, std::chrono::seconds(20))) {
+      const int wait_seconds = argc >= 4 ? std::atoi(argv[3]) : 20;
+      if (!writer.WaitForReaders(1, std::chrono::seconds(wait_seconds))) {
         std::fprintf(stderr, "no reader matched\n");
         return 3;
       }
