@@ -11,10 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "aggregator/ingest/frame_index_set.h"
 #include "shared/io/frame_record.h"
 #include "shared/io/session_log.h"
+#include "shared/io/session_log_reader.h"
 #include "shared/record/record_log.h"
+#include "shared/util/frame_index_set.h"
 
 namespace silnet::aggregator {
 
@@ -57,28 +58,5 @@ class SessionStore {
   std::map<std::string, std::unique_ptr<Camera>> cameras_;
   std::string last_error_;
 };
-
-// One camera's frames of one session, read back from a session log, sorted by frame index.
-struct SessionFrames {
-  std::string camera_id;
-  uint32_t session = 0;
-  std::vector<FrameRecord> hulls;     // one per frame index
-  std::vector<FrameRecord> contours;  // one per frame index that has one
-  CameraInfoRecord info;              // the latest description seen for the camera
-};
-
-// What reading a log found besides the frames.
-struct SessionReadReport {
-  uint64_t records = 0;
-  uint64_t duplicates = 0;  // repeated (session, index, type) records, ignored
-  uint64_t malformed = 0;   // records that did not parse, ignored
-  bool torn_tail = false;   // an incomplete last record (a writer still writing, or a crash)
-  std::string problem;      // corruption met (reading stopped there), empty if none
-};
-
-// Reads a camera's session log. Sessions are returned ascending. Throws InputError if the
-// file cannot be opened or is not a session log.
-std::vector<SessionFrames> ReadSessionLog(const std::filesystem::path& path,
-                                          SessionReadReport* report = nullptr);
 
 }  // namespace silnet::aggregator

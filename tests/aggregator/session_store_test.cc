@@ -5,7 +5,7 @@
 #include <fstream>
 #include <random>
 
-#include "aggregator/ingest/frame_index_set.h"
+#include "shared/util/frame_index_set.h"
 #include "shared/util/check.h"
 #include "tests/support/temp_dir.h"
 

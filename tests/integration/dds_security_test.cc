@@ -8,7 +8,7 @@
 
 #include <thread>
 
-#include "aggregator/ingest/session_store.h"
+#include "shared/io/session_log_reader.h"
 #include "tests/support/child_process.h"
 #include "tests/support/temp_dir.h"
 
@@ -137,7 +137,7 @@ TEST_F(DdsSecurity, ARealNodeStreamsEveryFrameToARealAggregator) {
   ASSERT_EQ(node.Wait(std::chrono::seconds(60)), std::optional<int>(0)) << node.Stderr();
   ASSERT_EQ(aggregator.Wait(std::chrono::seconds(60)), std::optional<int>(0))
       << aggregator.Stderr();
-  const auto sessions = aggregator::ReadSessionLog(SessionLogPath(logs_ / "agg/sessions", "cam00"));
+  const auto sessions = ReadSessionLog(SessionLogPath(logs_ / "agg/sessions", "cam00"));
   ASSERT_EQ(sessions.size(), 1u) << aggregator.Stdout();
   EXPECT_EQ(sessions[0].hulls.size(), 60u);
   EXPECT_NE(aggregator.Stdout().find("0 missing, 0 duplicates, 0 malformed"), std::string::npos)

@@ -11,7 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
-#include "aggregator/ingest/session_store.h"
+#include "shared/io/session_log_reader.h"
 #include "shared/record/record_log.h"
 #include "silnet.h"
 #include "tests/support/child_process.h"
@@ -41,9 +41,8 @@ const std::filesystem::path& Dataset() {
   return dataset;
 }
 
-std::vector<aggregator::SessionFrames> Sessions(const std::filesystem::path& store,
-                                                const std::string& camera) {
-  return aggregator::ReadSessionLog(SessionLogPath(store, camera));
+std::vector<SessionFrames> Sessions(const std::filesystem::path& store, const std::string& camera) {
+  return ReadSessionLog(SessionLogPath(store, camera));
 }
 
 // Hull frame indices in the order the store received them.
@@ -127,8 +126,7 @@ TEST(NodeStream, ASubscriberKilledAndRestartedMidStreamLosesNoFrame) {
   cv::FileStorage summary((work / "agg/ingest_summary.yaml").string(), cv::FileStorage::READ);
   EXPECT_EQ(static_cast<double>(summary["cameras"][0]["missing"]), 0.0);
   // The node's own crash-safe recording holds the whole session too.
-  const auto recorded =
-      aggregator::ReadSessionLog(SessionLogPath(work / "node-recording", "cam01"));
+  const auto recorded = ReadSessionLog(SessionLogPath(work / "node-recording", "cam01"));
   ASSERT_EQ(recorded.size(), 1u);
   EXPECT_EQ(recorded[0].hulls.size(), 300u);
 }
@@ -168,8 +166,8 @@ TEST(NodeStream, SigtermStopsTheNodeCleanlyWithItsRecordingFlushed) {
   std::this_thread::sleep_for(seconds(2));
   node.Signal(SIGTERM);
   ASSERT_EQ(node.Wait(seconds(20)), std::optional<int>(0)) << node.Stderr();
-  aggregator::SessionReadReport report;
-  const auto sessions = aggregator::ReadSessionLog(SessionLogPath(work / "rec", "cam00"), &report);
+  SessionReadReport report;
+  const auto sessions = ReadSessionLog(SessionLogPath(work / "rec", "cam00"), &report);
   EXPECT_FALSE(report.torn_tail);
   EXPECT_TRUE(report.problem.empty()) << report.problem;
   ASSERT_EQ(sessions.size(), 1u);
@@ -223,7 +221,7 @@ TEST(NodeStream, BadInputGivesClearErrorsOrFlaggedFrames) {
                               "--linger", "0", "--record", (work / "rec").string()},
                              work.path());
   ASSERT_EQ(node.Wait(seconds(60)), std::optional<int>(0)) << node.Stderr();
-  const auto sessions = aggregator::ReadSessionLog(SessionLogPath(work / "rec", "m0"));
+  const auto sessions = ReadSessionLog(SessionLogPath(work / "rec", "m0"));
   ASSERT_EQ(sessions.size(), 1u);
   const auto& hulls = sessions[0].hulls;
   ASSERT_EQ(hulls.size(), 6u);

@@ -4,14 +4,14 @@
 #include "node/camera_node.h"
 
 #include <gtest/gtest.h>
+
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-
 #include <thread>
 
-#include "aggregator/ingest/session_store.h"
 #include "node/capture/files/image_folder_source.h"
 #include "shared/dds/sample_conversions.h"
+#include "shared/io/session_log_reader.h"
 #include "tests/support/temp_dir.h"
 
 namespace silnet::node {
@@ -59,7 +59,8 @@ class CameraNodeTest : public ::testing::Test {
     runner_.join();
   }
 
-  void Send(silnet_wire_CommandKind kind, const std::string& name = "", const std::string& value = "") {
+  void Send(silnet_wire_CommandKind kind, const std::string& name = "",
+            const std::string& value = "") {
     silnet_wire_Command command{};
     command.command_id = ++command_id_;
     dds::CopyBoundedString("test", command.issuer, "issuer");
@@ -93,7 +94,9 @@ TEST_F(CameraNodeTest, ObeysCommandsAndReportsItsState) {
   // Camera info is latched and describes the node.
   CameraInfoRecord info;
   ASSERT_TRUE(Eventually([&] {
-    infos_.Take([&](const silnet_wire_CameraInfo& s, const dds_sample_info_t&) { info = dds::FromWire(s); });
+    infos_.Take([&](const silnet_wire_CameraInfo& s, const dds_sample_info_t&) {
+      info = dds::FromWire(s);
+    });
     return !info.camera_id.empty();
   }));
   EXPECT_EQ(info.camera_id, "camT");
@@ -104,7 +107,9 @@ TEST_F(CameraNodeTest, ObeysCommandsAndReportsItsState) {
   // Set a parameter: the node re-publishes its camera info.
   Send(silnet_wire_COMMAND_SET_PARAMETER, "min_blob_area", "77");
   ASSERT_TRUE(Eventually([&] {
-    infos_.Take([&](const silnet_wire_CameraInfo& s, const dds_sample_info_t&) { info = dds::FromWire(s); });
+    infos_.Take([&](const silnet_wire_CameraInfo& s, const dds_sample_info_t&) {
+      info = dds::FromWire(s);
+    });
     return info.parameters.at("min_blob_area") == "77";
   }));
 
@@ -129,12 +134,14 @@ TEST_F(CameraNodeTest, ObeysCommandsAndReportsItsState) {
   std::this_thread::sleep_for(milliseconds(300));
   hulls_.Take([](const silnet_wire_HullFrame&, const dds_sample_info_t&) {}, 100000);
   std::this_thread::sleep_for(milliseconds(500));
-  size_t while_stopped = hulls_.Take([](const silnet_wire_HullFrame&, const dds_sample_info_t&) {}, 100000);
+  size_t while_stopped =
+      hulls_.Take([](const silnet_wire_HullFrame&, const dds_sample_info_t&) {}, 100000);
   EXPECT_LE(while_stopped, 1u);
   Send(silnet_wire_COMMAND_START);
   size_t after_start = 0;
   ASSERT_TRUE(Eventually([&] {
-    after_start += hulls_.Take([](const silnet_wire_HullFrame&, const dds_sample_info_t&) {}, 100000);
+    after_start +=
+        hulls_.Take([](const silnet_wire_HullFrame&, const dds_sample_info_t&) {}, 100000);
     return after_start > 3;
   }));
 
@@ -142,9 +149,10 @@ TEST_F(CameraNodeTest, ObeysCommandsAndReportsItsState) {
   Send(silnet_wire_COMMAND_RECORD_START, "", (dir_ / "rec").string());
   std::this_thread::sleep_for(milliseconds(600));
   Send(silnet_wire_COMMAND_RECORD_STOP);
-  ASSERT_TRUE(Eventually([&] { return std::filesystem::exists(SessionLogPath(dir_ / "rec", "camT")); }));
+  ASSERT_TRUE(
+      Eventually([&] { return std::filesystem::exists(SessionLogPath(dir_ / "rec", "camT")); }));
   std::this_thread::sleep_for(milliseconds(200));
-  const auto recorded = aggregator::ReadSessionLog(SessionLogPath(dir_ / "rec", "camT"));
+  const auto recorded = ReadSessionLog(SessionLogPath(dir_ / "rec", "camT"));
   ASSERT_EQ(recorded.size(), 1u);
   EXPECT_GT(recorded[0].hulls.size(), 5u);
   EXPECT_EQ(recorded[0].info.parameters.at("min_blob_area"), "77");

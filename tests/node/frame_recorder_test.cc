@@ -4,8 +4,8 @@
 #include <signal.h>
 #include <sys/resource.h>
 
-#include "aggregator/ingest/session_store.h"
 #include "node/publish/frame_history.h"
+#include "shared/io/session_log_reader.h"
 #include "shared/util/check.h"
 #include "tests/support/temp_dir.h"
 
@@ -53,7 +53,7 @@ TEST(FrameRecorder, AFullDiskPausesRecordingAndNothingIsLostWhenSpaceReturns) {
   EXPECT_EQ(resumed.pending, 0u);
   EXPECT_EQ(resumed.written, 21u);
   EXPECT_EQ(resumed.lost, 0u);
-  const auto sessions = aggregator::ReadSessionLog(recorder.path());
+  const auto sessions = ReadSessionLog(recorder.path());
   ASSERT_EQ(sessions.size(), 1u);
   ASSERT_EQ(sessions[0].hulls.size(), 21u);
   for (uint64_t i = 0; i < 21; ++i)

@@ -128,7 +128,8 @@ TEST(Segmentation, GraphCutRefinementImprovesAnInexactBoundary) {
   const sim::Scene scene(scene_options);
   double before = 0, after = 0;
   for (int c = 0; c < 4; ++c) {
-    const sim::CameraRenderer renderer(cameras[static_cast<size_t>(c)], scene, sim::RenderSettings{}, c);
+    const sim::CameraRenderer renderer(cameras[static_cast<size_t>(c)], scene,
+                                       sim::RenderSettings{}, c);
     cv::Mat truth, colour;
     renderer.Render(5.0 + c, 1, &truth, &colour);
     cv::Mat rough;

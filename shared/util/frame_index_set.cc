@@ -1,8 +1,8 @@
-#include "aggregator/ingest/frame_index_set.h"
+#include "shared/util/frame_index_set.h"
 
 #include <algorithm>
 
-namespace silnet::aggregator {
+namespace silnet {
 
 bool FrameIndexSet::Insert(uint64_t index) {
   // First range whose end is >= index - 1 (could absorb or contain the index).
@@ -50,4 +50,4 @@ std::vector<FrameRange> FrameIndexSet::Missing(uint64_t from) const {
   return gaps;
 }
 
-}  // namespace silnet::aggregator
+}  // namespace silnet

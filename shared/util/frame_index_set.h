@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-namespace silnet::aggregator {
+namespace silnet {
 
 // Inclusive interval [first, last] of frame indices.
 struct FrameRange {
@@ -35,4 +35,4 @@ class FrameIndexSet {
   std::vector<FrameRange> ranges_;
 };
 
-}  // namespace silnet::aggregator
+}  // namespace silnet
