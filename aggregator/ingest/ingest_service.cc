@@ -6,33 +6,13 @@
 #include <opencv2/core/persistence.hpp>
 
 #include "shared/dds/sample_conversions.h"
-#include "shared/silhouette/contour_codec.h"
-#include "shared/silhouette/hull_codec.h"
+#include "shared/silhouette/frame_sample_check.h"
 #include "shared/util/check.h"
 
 namespace silnet::aggregator {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// Validates a received frame sample; returns a reason if it is malformed.
-std::string CheckFrame(const FrameRecord& record, bool contour) {
-  if (record.camera_id.empty()) return "empty camera id";
-  for (char c : record.camera_id) {
-    if (c < 33 || c > 126) return "camera id with unprintable characters";
-  }
-  if (record.width == 0 || record.height == 0) return "zero image size";
-  std::string error;
-  if (contour) {
-    SilhouetteContours contours;
-    if (!DecodeContours(record.payload, record.width, record.height, &contours, &error))
-      return error;
-  } else {
-    HullPayload payload;
-    if (!DecodeHull(record.payload, record.width, record.height, &payload, &error)) return error;
-  }
-  return {};
-}
 
 }  // namespace
 
@@ -82,7 +62,8 @@ struct IngestService::Impl {
   }
 
   void OnHull(const FrameRecord& record) {
-    if (const std::string reason = CheckFrame(record, false); !reason.empty()) {
+    if (const std::string reason = FindFrameSampleProblem(record, FramePayloadKind::kHull);
+        !reason.empty()) {
       spdlog::warn("malformed HullFrame from '{}' (frame {}): {}", record.camera_id,
                    record.frame_index, reason);
       if (record.camera_id.empty()) {
@@ -140,7 +121,8 @@ struct IngestService::Impl {
   }
 
   void OnContour(const FrameRecord& record) {
-    if (const std::string reason = CheckFrame(record, true); !reason.empty()) {
+    if (const std::string reason = FindFrameSampleProblem(record, FramePayloadKind::kContour);
+        !reason.empty()) {
       spdlog::warn("malformed Contour from '{}' (frame {}): {}", record.camera_id,
                    record.frame_index, reason);
       ++TrackFor(record.camera_id.empty() ? "?" : record.camera_id).status.malformed;

@@ -4,11 +4,11 @@
 
 namespace silnet::dds {
 
-int32_t CheckDds(int32_t result, const std::string& what, std::source_location where) {
+int32_t CheckDds(int32_t result, const std::string& what, const char* file, int line) {
   if (result >= 0) return result;
-  const std::string file = std::filesystem::path(where.file_name()).filename().string();
+  const std::string name = std::filesystem::path(file).filename().string();
   throw DdsError(
-      what + ": " + dds_strretcode(result) + " (" + file + ":" + std::to_string(where.line()) + ")",
+      what + ": " + dds_strretcode(result) + " (" + name + ":" + std::to_string(line) + ")",
       result);
 }
 

@@ -3,7 +3,6 @@
 
 #include <dds/dds.h>
 
-#include <source_location>
 #include <stdexcept>
 #include <string>
 
@@ -22,7 +21,9 @@ class DdsError : public std::runtime_error {
 
 // Returns `result` unchanged if it is not an error code (>= 0); otherwise throws DdsError.
 // `what` names the operation, e.g. "create reader for silnet/hull_frame".
-int32_t CheckDds(int32_t result, const std::string& what,
-                 std::source_location where = std::source_location::current());
+// The caller's file and line come from compiler builtins (std::source_location is not
+// usable with clang 14 and libstdc++ 12, the fuzzing toolchain).
+int32_t CheckDds(int32_t result, const std::string& what, const char* file = __builtin_FILE(),
+                 int line = __builtin_LINE());
 
 }  // namespace silnet::dds
