@@ -84,6 +84,7 @@ struct CameraNode::State {
   std::atomic<bool> stop_capture{false};  // shutting down: capture no more
   std::atomic<bool> halt{false};          // shutting down: stop everything now
   std::atomic<bool> source_ended{false}, processing_done{false}, publishing_done{false};
+  std::atomic<int64_t> last_captured_index{-1};  // newest frame index the source delivered
   std::atomic<uint64_t> captured{0}, processed{0}, published{0}, dropped{0}, flagged{0}, resent{0},
       commands{0}, capture_errors{0};
 
@@ -106,6 +107,7 @@ struct CameraNode::State {
   void PublishingLoop();
   void ControlLoop();
   void Emit(ProcessedFrame frame);
+  void EmitDropped(uint64_t from, uint64_t to, int64_t last_time_ns, double period_ns);
   void Record(SessionRecordType type, const std::vector<uint8_t>& payload);
   void HandleCommand(const silnet_wire_Command& command);
   silnet_wire_NodeStatus Status(double fps, double cpu_percent, const std::string& state);
@@ -133,6 +135,7 @@ void CameraNode::State::CaptureLoop() {
       continue;
     }
     ++captured;
+    last_captured_index = static_cast<int64_t>(job.frame.frame_index);
     if (status == CaptureStatus::kFrameError) {
       ++capture_errors;
       job.flags = silnet_wire_FRAME_BAD_INPUT;
@@ -184,15 +187,7 @@ void CameraNode::State::ProcessingLoop() {
       continue;
     }
     // Frames lost between capture and here, or by the device, are published flagged.
-    for (uint64_t missing = next_index; missing < index && !halt; ++missing) {
-      const int64_t estimate =
-          last_time_ns > 0
-              ? last_time_ns +
-                    static_cast<int64_t>(period_ns * static_cast<double>(missing - next_index + 1))
-              : 0;
-      ++dropped;
-      Emit(processor->Flagged(missing, estimate, silnet_wire_FRAME_DROPPED));
-    }
+    EmitDropped(next_index, index, last_time_ns, period_ns);
     ProcessedFrame result;
     {
       std::lock_guard lock(processor_mutex);
@@ -209,15 +204,38 @@ void CameraNode::State::ProcessingLoop() {
     next_index = index + 1;
     Emit(std::move(result));
   }
+  // Frames lost at the very end (the queue was full and no later frame shows the gap).
+  const int64_t last = last_captured_index.load();
+  if (!first && last >= 0 && static_cast<uint64_t>(last) >= next_index) {
+    EmitDropped(next_index, static_cast<uint64_t>(last) + 1, last_time_ns, period_ns);
+  }
   processing_done = true;
-  publish_queue.Close();
 }
 
+// Publishes frames [from, to) flagged FRAME_DROPPED, their capture times extrapolated from
+// the last frame processed.
+void CameraNode::State::EmitDropped(uint64_t from, uint64_t to, int64_t last_time_ns,
+                                    double period_ns) {
+  for (uint64_t missing = from; missing < to && !halt; ++missing) {
+    const int64_t estimate =
+        last_time_ns > 0
+            ? last_time_ns +
+                  static_cast<int64_t>(period_ns * static_cast<double>(missing - from + 1))
+            : 0;
+    ++dropped;
+    Emit(processor->Flagged(missing, estimate, silnet_wire_FRAME_DROPPED));
+  }
+}
+
+// Publishes frames as processing emits them and re-sends on request until halted: once
+// processing is done and the queue drained, publishing_done says so but the loop stays to
+// serve resend requests while the node lingers.
 void CameraNode::State::PublishingLoop() {
   while (!halt) {
     std::optional<PublishJob> job = publish_queue.Pop(std::chrono::milliseconds(100));
     if (!job) {
       if (publish_queue.closed()) break;
+      if (processing_done && publish_queue.size() == 0) publishing_done = true;
       continue;
     }
     if (!transport->PublishHull(job->hull, halt)) break;

@@ -83,6 +83,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
+  // A file-size limit fails the recorder's write with EFBIG (reported, recording pauses)
+  // instead of killing the node.
+  signal(SIGXFSZ, SIG_IGN);
   // SIGINT/SIGTERM are taken by a watcher thread; every other thread has them blocked.
   sigset_t signals;
   sigemptyset(&signals);

@@ -14,6 +14,9 @@ std::atomic<bool> g_stop{false};
 }  // namespace
 
 void WatchSignals() {
+  // A file-size limit (RLIMIT_FSIZE) then fails the write with EFBIG, which the session
+  // store reports and recovers from like a full disk, instead of killing the process.
+  signal(SIGXFSZ, SIG_IGN);
   static sigset_t signals;
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);

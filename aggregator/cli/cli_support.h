@@ -15,7 +15,8 @@
 
 namespace silnet::aggregator::cli {
 
-// Routes SIGINT and SIGTERM to a watcher thread (other threads have them blocked); call once
+// Routes SIGINT and SIGTERM to a watcher thread (other threads have them blocked) and ignores
+// SIGXFSZ (a file-size limit becomes a reported write error); call once
 // before starting threads.
 void WatchSignals();
 // True once SIGINT or SIGTERM arrived.

@@ -44,6 +44,7 @@ struct IngestService::Impl {
   std::map<std::string, Track> tracks;
   uint64_t malformed_unknown = 0;
   uint64_t next_command_id = 1;
+  bool store_failing = false;  // the last write failed; reported once until one succeeds
 
   explicit Impl(IngestOptions o) : options(std::move(o)), store(options.store_dir) {}
 
@@ -75,7 +76,7 @@ struct IngestService::Impl {
     }
     Track& t = TrackFor(record.camera_id);
     ++t.status.received;
-    t.last_sample = Clock::now();
+    NoteSample(t);
     if (record.session > t.status.session) StartSession(t, record.session);
     const bool late = record.session == t.status.session && t.any &&
                       record.frame_index < t.held.max() &&
@@ -86,8 +87,10 @@ struct IngestService::Impl {
         return;
       case StoreResult::kFailed:
         ++t.status.store_failures;
+        ReportStoreFailure();
         return;
       case StoreResult::kStored:
+        ReportStoreRecovered();
         break;
     }
     if (record.session != t.status.session) return;  // an older session's frame: stored
@@ -104,6 +107,47 @@ struct IngestService::Impl {
     // A frame re-sent as dropped or unusable has no contour to wait for.
     if (record.flags & (silnet_wire_FRAME_DROPPED | silnet_wire_FRAME_BAD_INPUT))
       t.contour_due.erase(record.frame_index);
+  }
+
+  void ReportStoreFailure() {
+    if (store_failing) return;
+    store_failing = true;
+    spdlog::error(
+        "session store cannot write: {}; frames are dropped and will be asked for again once it "
+        "writes",
+        store.last_error());
+  }
+
+  void ReportStoreRecovered() {
+    if (!store_failing) return;
+    store_failing = false;
+    spdlog::warn("session store writes again; asking the nodes for the frames it lost");
+  }
+
+  // A camera that sent frames and then none for stall_after, without its node saying that
+  // its source ended, that it was stopped or that it exited, is stalled until a frame
+  // arrives.
+  void DetectStalls() {
+    const auto now = Clock::now();
+    for (auto& [id, t] : tracks) {
+      if (t.last_sample == Clock::time_point{} || t.status.stalled) continue;
+      const std::string& state = t.status.node_state;
+      if (state.starts_with("ended") || state.starts_with("stopped") || state.starts_with("exited"))
+        continue;
+      if (now - t.last_sample < options.stall_after) continue;
+      t.status.stalled = true;
+      ++t.status.stalls;
+      spdlog::warn("{} stalled: no frame for {:.1f} s (newest frame {} of session {})", id,
+                   std::chrono::duration<double>(now - t.last_sample).count(),
+                   t.any ? t.held.max() : 0, t.status.session);
+    }
+  }
+
+  void NoteSample(Track& t) {
+    t.last_sample = Clock::now();
+    if (!t.status.stalled) return;
+    t.status.stalled = false;
+    spdlog::warn("{} resumed after a stall", t.status.camera_id);
   }
 
   // Once the node's contour rate is known (its CameraInfo may arrive after the first
@@ -129,7 +173,18 @@ struct IngestService::Impl {
       return;
     }
     Track& t = TrackFor(record.camera_id);
-    if (store.Add(SessionRecordType::kContour, record) == StoreResult::kStored) ++t.status.contours;
+    switch (store.Add(SessionRecordType::kContour, record)) {
+      case StoreResult::kStored:
+        ++t.status.contours;
+        ReportStoreRecovered();
+        break;
+      case StoreResult::kFailed:
+        ++t.status.store_failures;
+        ReportStoreFailure();
+        return;  // still due: asked for again
+      case StoreResult::kDuplicate:
+        break;
+    }
     if (record.session == t.status.session) t.contour_due.erase(record.frame_index);
   }
 
@@ -253,6 +308,7 @@ size_t IngestService::Poll(std::chrono::milliseconds wait) {
         t.status.node_fps = sample.fps;
         t.status.node_published = sample.frames_published;
       });
+  s.DetectStalls();
   s.RequestMissing();
   return handled;
 }
@@ -299,6 +355,9 @@ IngestTotals IngestService::Totals() const {
     totals.out_of_order += c.out_of_order;
     totals.resend_requests += c.resend_requests;
     totals.missing += c.missing;
+    totals.store_failures += c.store_failures;
+    totals.stalls += c.stalls;
+    totals.cameras_stalled += c.stalled ? 1 : 0;
   }
   return totals;
 }
@@ -323,7 +382,8 @@ void IngestService::WriteSummary(const std::filesystem::path& path) const {
        << "malformed" << static_cast<double>(c.malformed) << "resend_requests"
        << static_cast<double>(c.resend_requests) << "resent_received"
        << static_cast<double>(c.resent_received) << "store_failures"
-       << static_cast<double>(c.store_failures) << "}";
+       << static_cast<double>(c.store_failures) << "stalls" << static_cast<double>(c.stalls)
+       << "stalled" << static_cast<int>(c.stalled) << "}";
   }
   fs << "]";
   const IngestTotals totals = Totals();

@@ -3,7 +3,9 @@
 // (malformed ones are counted and dropped), stores accepted frames durably in the session
 // store (duplicates counted, stored once), tracks per camera and session which frames have
 // arrived, and asks nodes to re-send what is missing (COMMAND_RESEND) — gaps inside the
-// stream, and frames a node reports published that never arrived.
+// stream, and frames a node reports published that never arrived. A camera whose stream
+// stops is reported stalled (and again when it resumes); a store that cannot write (a full
+// disk) is reported, and the frames it lost are asked for again once it writes again.
 
 #include <chrono>
 #include <filesystem>
@@ -26,6 +28,7 @@ struct IngestOptions {
   std::chrono::milliseconds resend_grace{400};      // a gap must be this old before asking
   std::chrono::milliseconds resend_interval{1500};  // and asking again waits this long
   uint64_t max_resend_frames = 2000;                // frames asked for in one command
+  std::chrono::milliseconds stall_after{3000};      // a camera silent this long has stalled
 };
 
 // Counters of one camera.
@@ -41,8 +44,10 @@ struct CameraIngestStatus {
   uint64_t out_of_order = 0;  // arrived after a later frame of the same session
   uint64_t malformed = 0;
   uint64_t resend_requests = 0;
-  uint64_t resent_received = 0;  // samples flagged FRAME_RESENT that filled a gap
-  uint64_t store_failures = 0;
+  uint64_t resent_received = 0;    // samples flagged FRAME_RESENT that filled a gap
+  uint64_t store_failures = 0;     // samples the store could not write (disk full, ...)
+  bool stalled = false;            // no sample for IngestOptions::stall_after
+  uint64_t stalls = 0;             // times the stream stalled
   double seconds_since_last = -1;  // since the last sample (negative: none yet)
   std::string node_state;          // from the node's last NodeStatus
   double node_fps = 0.0;
@@ -52,7 +57,8 @@ struct CameraIngestStatus {
 // Totals over all cameras.
 struct IngestTotals {
   uint64_t received = 0, stored = 0, duplicates = 0, malformed = 0, out_of_order = 0,
-           resend_requests = 0, missing = 0;
+           resend_requests = 0, missing = 0, store_failures = 0, stalls = 0;
+  int cameras_stalled = 0;        // cameras stalled now
   uint64_t contours_overdue = 0;  // hull frames whose contour has not arrived (yet)
   uint64_t dds_samples_lost = 0;  // reported by DDS on the frame readers
   uint64_t dds_samples_rejected = 0;
