@@ -11,6 +11,7 @@
 #include "node/publish/frame_history.h"
 #include "node/publish/frame_recorder.h"
 #include "node/publish/node_transport.h"
+#include "shared/io/session_log_reader.h"
 #include "shared/util/bounded_queue.h"
 
 namespace silnet::node {
@@ -110,6 +111,7 @@ struct CameraNode::State {
   void EmitDropped(uint64_t from, uint64_t to, int64_t last_time_ns, double period_ns);
   void Record(SessionRecordType type, const std::vector<uint8_t>& payload);
   void HandleCommand(const silnet_wire_Command& command);
+  void ResendFromRecording(const silnet_wire_Command& command);
   silnet_wire_NodeStatus Status(double fps, double cpu_percent, const std::string& state);
   void PublishInfo();
 };
@@ -363,8 +365,7 @@ void CameraNode::State::HandleCommand(const silnet_wire_Command& command) {
     }
     case silnet_wire_COMMAND_RESEND: {
       if (command.session != 0 && command.session != options.processing.session) {
-        spdlog::info("command {}: resend for session {} (this is {}): nothing held",
-                     command.command_id, command.session, options.processing.session);
+        ResendFromRecording(command);
         break;
       }
       size_t queued = 0;
@@ -383,6 +384,46 @@ void CameraNode::State::HandleCommand(const silnet_wire_Command& command) {
       spdlog::warn("command {}: unknown kind {}", command.command_id,
                    static_cast<int>(command.kind));
   }
+}
+
+// A resend request for an earlier session (this node restarted, after a crash perhaps) is
+// served from the node's recording, which outlives the process; without one nothing is held.
+void CameraNode::State::ResendFromRecording(const silnet_wire_Command& command) {
+  std::vector<SessionFrames> sessions;
+  {
+    std::lock_guard lock(recorder_mutex);
+    if (!recorder) {
+      spdlog::info("command {}: resend for session {} (this is {}): not recorded, nothing held",
+                   command.command_id, command.session, options.processing.session);
+      return;
+    }
+    recorder->Flush();
+    try {
+      sessions = ReadSessionLog(recorder->path());
+    } catch (const InputError& e) {
+      spdlog::warn("command {}: cannot read the recording: {}", command.command_id, e.what());
+      return;
+    }
+  }
+  size_t queued = 0;
+  for (SessionFrames& s : sessions) {
+    if (s.session != command.session) continue;
+    auto contour = s.contours.begin();
+    for (FrameRecord& hull : s.hulls) {
+      if (hull.frame_index < command.from_frame || hull.frame_index > command.to_frame) continue;
+      while (contour != s.contours.end() && contour->frame_index < hull.frame_index)
+        ++contour;
+      PublishJob job{std::move(hull), std::nullopt, true};
+      job.hull.flags |= silnet_wire_FRAME_RESENT;
+      if (contour != s.contours.end() && contour->frame_index == job.hull.frame_index) {
+        job.contour = std::move(*contour);
+        job.contour->flags |= silnet_wire_FRAME_RESENT;
+      }
+      if (publish_queue.TryPush(std::move(job))) ++queued;
+    }
+  }
+  spdlog::info("command {}: re-sending {} recorded frames of session {} from frame {}",
+               command.command_id, queued, command.session, command.from_frame);
 }
 
 void CameraNode::State::ControlLoop() {

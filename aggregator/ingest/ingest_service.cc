@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdlib>
+#include <limits>
 #include <opencv2/core/persistence.hpp>
 
 #include "shared/dds/sample_conversions.h"
@@ -77,7 +78,10 @@ struct IngestService::Impl {
     Track& t = TrackFor(record.camera_id);
     ++t.status.received;
     NoteSample(t);
-    if (record.session > t.status.session) StartSession(t, record.session);
+    if (record.session > t.status.session) {
+      if (t.any) RequestRestOfSession(t);
+      StartSession(t, record.session);
+    }
     const bool late = record.session == t.status.session && t.any &&
                       record.frame_index < t.held.max() &&
                       !(record.flags & silnet_wire_FRAME_RESENT);
@@ -200,7 +204,17 @@ struct IngestService::Impl {
     command_writer->Write(command);
     ++t.status.resend_requests;
     spdlog::info("asking {} to re-send frames {}..{} of session {}", t.status.camera_id, first,
-                 last, t.status.session);
+                 last == std::numeric_limits<uint64_t>::max() ? "end" : std::to_string(last),
+                 t.status.session);
+  }
+
+  // A node started a new session (it restarted, perhaps after a crash): once, ask it for
+  // what the previous session's stream did not deliver — its gaps and everything after the
+  // newest frame held. A node that records serves them from its recording.
+  void RequestRestOfSession(Track& t) {
+    for (const FrameRange& gap : t.held.Missing(0))
+      RequestResend(t, gap.first, gap.last);
+    RequestResend(t, t.held.max() + 1, std::numeric_limits<uint64_t>::max());
   }
 
   void RequestMissing() {

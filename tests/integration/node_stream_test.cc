@@ -1,7 +1,10 @@
 // A real silnet-node publishing a simulated 300-frame feed to a real silnet-aggregator ingest
 // in another process over loopback DDS: every frame arrives exactly once and in order; a
 // subscriber killed and restarted mid-stream loses no frame (DDS history and the node's
-// re-send of its local history fill the gap); bad input gives clear errors or flagged frames.
+// re-send of its local history fill the gap); a node killed and restarted (after the
+// aggregator was killed and restarted) loses no frame it recorded: the restarted node
+// re-sends the old session from its recording; bad input gives clear
+// errors or flagged frames.
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -129,6 +132,44 @@ TEST(NodeStream, ASubscriberKilledAndRestartedMidStreamLosesNoFrame) {
   const auto recorded = ReadSessionLog(SessionLogPath(work / "node-recording", "cam01"));
   ASSERT_EQ(recorded.size(), 1u);
   EXPECT_EQ(recorded[0].hulls.size(), 300u);
+}
+
+TEST(NodeStream, ANodeKilledAndRestartedLosesNoRecordedFrame) {
+  testing::TempDir work;
+  const std::vector<std::string> ingest{"ingest", "-o", (work / "agg").string(), "--idle-exit",
+                                        "4"};
+  auto first_aggregator = std::make_unique<testing::ChildProcess>(kAggregator, ingest, work.path());
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const std::vector<std::string> node_args{
+      "--camera-id", "cam00", "--source", "sim:" + (Dataset() / "cam00").string(), "--speed", "1",
+      "--linger",    "6",     "--record", (work / "node-recording").string()};
+  auto first_node = std::make_unique<testing::ChildProcess>(kNode, node_args, work.path());
+  // The aggregator dies first, then the node: frames of the first session exist only in the
+  // node's recording.
+  std::this_thread::sleep_for(seconds(2));
+  first_aggregator->Kill(SIGKILL);
+  std::this_thread::sleep_for(seconds(1));
+  first_node->Kill(SIGKILL);
+  testing::ChildProcess aggregator(kAggregator, ingest, work.path());
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  testing::ChildProcess node(kNode, node_args, work.path());
+  ASSERT_EQ(node.Wait(seconds(120)), std::optional<int>(0)) << node.Stderr();
+  ASSERT_EQ(aggregator.Wait(seconds(60)), std::optional<int>(0)) << aggregator.Stderr();
+  EXPECT_NE(node.Stderr().find("recorded frames of session"), std::string::npos) << node.Stderr();
+  // Every frame the killed node recorded reached the store, and the new session is whole.
+  const auto recorded = ReadSessionLog(SessionLogPath(work / "node-recording", "cam00"));
+  const auto stored = Sessions(work / "agg/sessions", "cam00");
+  ASSERT_EQ(recorded.size(), 2u);
+  ASSERT_EQ(stored.size(), 2u) << aggregator.Stderr();
+  EXPECT_GT(recorded[0].hulls.size(), 30u);
+  EXPECT_LT(recorded[0].hulls.size(), 300u);
+  ASSERT_EQ(stored[0].hulls.size(), recorded[0].hulls.size()) << aggregator.Stderr();
+  for (size_t i = 0; i < recorded[0].hulls.size(); ++i)
+    EXPECT_EQ(stored[0].hulls[i].frame_index, recorded[0].hulls[i].frame_index);
+  EXPECT_EQ(stored[0].contours.size(), recorded[0].contours.size());
+  ASSERT_EQ(stored[1].hulls.size(), 300u);
+  for (uint64_t i = 0; i < 300; ++i)
+    EXPECT_EQ(stored[1].hulls[i].frame_index, i);
 }
 
 TEST(NodeStream, ALateSubscriberGetsTheFramesItMissedReSent) {
