@@ -1,5 +1,5 @@
-// silnet-aggregator hulls: a visual hull per reference frame from a dataset folder of
-// silhouettes and a calibration, with sub-frame silhouette interpolation.
+// silnet-aggregator hulls: a visual hull per reference frame from a dataset folder of masks
+// or a session store of contours and a calibration, with sub-frame silhouette interpolation.
 
 #include <cstdio>
 
@@ -65,7 +65,9 @@ int RunHulls(const HullsArgs& args) {
 Command AddHullsCommand(CLI::App& app) {
   auto args = std::make_shared<HullsArgs>();
   CLI::App* cmd = app.add_subcommand("hulls", "a visual hull per reference frame from silhouettes");
-  cmd->add_option("input", args->input, "dataset folder (<camera>/masks/%06d.png)")->required();
+  cmd->add_option("input", args->input,
+                  "dataset folder (<camera>/masks/%06d.png) or session store (contours)")
+      ->required();
   cmd->add_option("--calib", args->calibration, "calibration.yaml (or ground_truth.yaml)")
       ->required();
   cmd->add_option("--frames", args->frames,

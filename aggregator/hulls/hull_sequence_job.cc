@@ -16,10 +16,10 @@
 #include "aggregator/hulls/ply_io.h"
 #include "aggregator/hulls/polyhedral_hull.h"
 #include "aggregator/hulls/silhouette_interpolation.h"
+#include "aggregator/hulls/silhouette_source.h"
 #include "aggregator/hulls/viewing_cone_bounds.h"
 #include "aggregator/hulls/voxel_hull.h"
 #include "shared/io/calibration_yaml.h"
-#include "shared/io/dataset_layout.h"
 #include "shared/util/check.h"
 #include "shared/util/parallel_for.h"
 
@@ -44,56 +44,46 @@ MaskSource SourceFor(double frame, bool interpolate) {
   return {static_cast<int>(k), frame - k};
 }
 
-cv::Mat ReadMask(const DatasetLayout& layout, const CameraModel& camera, int frame) {
-  const std::filesystem::path path = layout.MaskPath(camera.id, frame);
-  cv::Mat mask = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
-  if (mask.empty()) throw InputError(fmt::format("cannot read mask {}", path.string()));
-  if (mask.cols != camera.width || mask.rows != camera.height) {
-    throw InputError(fmt::format("mask {} is {}x{} but the calibration of {} says {}x{}",
-                                 path.string(), mask.cols, mask.rows, camera.id, camera.width,
-                                 camera.height));
-  }
-  return mask;
-}
-
-cv::Mat MaskAt(const DatasetLayout& layout, const CameraModel& camera, const MaskSource& source) {
-  const cv::Mat first = ReadMask(layout, camera, source.k);
+cv::Mat MaskAt(const SilhouetteSource& silhouettes, const CameraModel& camera,
+               const MaskSource& source) {
+  const cv::Mat first = silhouettes.Mask(camera, source.k);
   if (source.fraction == 0) return first;
-  return InterpolateSilhouette(first, ReadMask(layout, camera, source.k + 1), source.fraction);
+  return InterpolateSilhouette(first, silhouettes.Mask(camera, source.k + 1), source.fraction);
 }
 
-// Every calibration camera must have masks; dataset cameras without a calibration are
+// Every calibration camera must have silhouettes; input cameras without a calibration are
 // left out with a warning.
-void CheckCameras(const DatasetLayout& layout, const std::vector<CameraModel>& cameras,
+void CheckCameras(const SilhouetteSource& silhouettes, const std::vector<CameraModel>& cameras,
                   const std::filesystem::path& calibration) {
   if (cameras.empty()) throw InputError(fmt::format("{} has no cameras", calibration.string()));
   std::set<std::string> calibrated;
   for (const CameraModel& camera : cameras) {
     calibrated.insert(camera.id);
-    if (layout.CountImages(camera.id, "masks") == 0) {
-      throw InputError(fmt::format("camera {} of {} has no masks in {} (expected {})", camera.id,
-                                   calibration.string(), layout.root().string(),
-                                   layout.MaskPath(camera.id, 0).string()));
+    if (silhouettes.FrameCount(camera.id) == 0) {
+      throw InputError(fmt::format("camera {} of {} has no silhouettes in {} (expected {})",
+                                   camera.id, calibration.string(), silhouettes.root().string(),
+                                   silhouettes.Where(camera.id, 0)));
     }
   }
   // A camera the calibration could not place is left out, not fatal.
-  for (const std::string& id : layout.CameraIds()) {
+  for (const std::string& id : silhouettes.CameraIds()) {
     if (!calibrated.count(id)) {
       spdlog::warn("camera {} of {} is not in the calibration {}; building hulls without it", id,
-                   layout.root().string(), calibration.string());
+                   silhouettes.root().string(), calibration.string());
     }
   }
 }
 
 // "; usable reference frames A:B" (or a note that there are none), for error messages.
-std::string UsableRange(const DatasetLayout& layout, const std::vector<CameraModel>& cameras,
-                        const CameraModel& reference, bool interpolate) {
+std::string UsableRange(const SilhouetteSource& silhouettes,
+                        const std::vector<CameraModel>& cameras, const CameraModel& reference,
+                        bool interpolate) {
   double lowest = -1e18, highest = 1e18;
   for (const CameraModel& camera : cameras) {
     // Camera frame f(r) = a r + b of reference frame r; a > 0.
     const double b = camera.FrameAt(reference.ExposureTime(0));
     const double a = camera.FrameAt(reference.ExposureTime(1)) - b;
-    const double last = layout.CountImages(camera.id, "masks") - 1 - (interpolate ? 1 : 0);
+    const double last = silhouettes.FrameCount(camera.id) - 1 - (interpolate ? 1 : 0);
     lowest = std::max(lowest, (0 - b) / a);
     highest = std::min(highest, (last - b) / a);
   }
@@ -104,14 +94,14 @@ std::string UsableRange(const DatasetLayout& layout, const std::vector<CameraMod
 }
 
 // The mask sources of every camera for every reference frame; InputError if one is missing.
-std::vector<std::vector<MaskSource>> PlanSources(const DatasetLayout& layout,
+std::vector<std::vector<MaskSource>> PlanSources(const SilhouetteSource& silhouettes,
                                                  const std::vector<CameraModel>& cameras,
                                                  const CameraModel& reference,
                                                  const std::vector<double>& times, bool interpolate,
                                                  int first_frame) {
   std::vector<std::vector<MaskSource>> plan(times.size(), std::vector<MaskSource>(cameras.size()));
   for (size_t c = 0; c < cameras.size(); ++c) {
-    const int count = layout.CountImages(cameras[c].id, "masks");
+    const int count = silhouettes.FrameCount(cameras[c].id);
     for (size_t f = 0; f < times.size(); ++f) {
       const double frame = cameras[c].FrameAt(times[f]);
       const MaskSource source = SourceFor(frame, interpolate);
@@ -119,9 +109,9 @@ std::vector<std::vector<MaskSource>> PlanSources(const DatasetLayout& layout,
       if (source.k < 0 || last_needed >= count) {
         throw InputError(fmt::format(
             "reference frame {} is out of range: camera {} would need its frame {:.3f} but has "
-            "masks 0..{}{}",
+            "silhouettes 0..{}{}",
             first_frame + static_cast<int>(f), cameras[c].id, frame, count - 1,
-            UsableRange(layout, cameras, reference, interpolate)));
+            UsableRange(silhouettes, cameras, reference, interpolate)));
       }
       plan[f][c] = source;
     }
@@ -143,14 +133,15 @@ std::string PlyName(int frame) {
   return fmt::format("frame_{:06d}.ply", frame);
 }
 
-HullFrameResult BuildFrame(const DatasetLayout& layout, const std::vector<CameraModel>& cameras,
+HullFrameResult BuildFrame(const SilhouetteSource& silhouettes,
+                           const std::vector<CameraModel>& cameras,
                            const std::vector<MaskSource>& sources, const VoxelHullOptions& carve,
                            const HullSequenceConfig& config, int frame) {
   HullFrameResult result;
   result.frame = frame;
   std::vector<cv::Mat> masks(cameras.size());
   for (size_t c = 0; c < cameras.size(); ++c)
-    masks[c] = MaskAt(layout, cameras[c], sources[c]);
+    masks[c] = MaskAt(silhouettes, cameras[c], sources[c]);
   TriangleMesh mesh;
   if (config.options.polyhedral) {
     PolyhedralHullResult exact = ComputePolyhedralHull(cameras, masks);
@@ -196,11 +187,12 @@ HullFrameResult BuildFrame(const DatasetLayout& layout, const std::vector<Camera
 }
 
 // The default voxel size from the first frame's viewing-cone bounds.
-double DefaultVoxelSize(const DatasetLayout& layout, const std::vector<CameraModel>& cameras,
+double DefaultVoxelSize(const SilhouetteSource& silhouettes,
+                        const std::vector<CameraModel>& cameras,
                         const std::vector<MaskSource>& sources, double divisor) {
   std::vector<cv::Mat> masks(cameras.size());
   for (size_t c = 0; c < cameras.size(); ++c)
-    masks[c] = MaskAt(layout, cameras[c], sources[c]);
+    masks[c] = MaskAt(silhouettes, cameras[c], sources[c]);
   const ViewingConeBounds bounds = ComputeViewingConeBounds(cameras, masks);
   if (!bounds.success) {
     throw InputError("cannot derive a voxel size from the first frame (" + bounds.reason +
@@ -312,8 +304,9 @@ HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config, Progress
                                  config.first_frame, config.last_frame));
   }
   const std::vector<CameraModel> cameras = LoadCalibration(config.calibration);
-  const DatasetLayout layout(config.input);
-  CheckCameras(layout, cameras, config.calibration);
+  const std::unique_ptr<SilhouetteSource> source = OpenSilhouetteSource(config.input);
+  const SilhouetteSource& silhouettes = *source;
+  CheckCameras(silhouettes, cameras, config.calibration);
 
   const CameraModel& reference = cameras[ReferenceCameraIndex(cameras)];
   const size_t n = static_cast<size_t>(config.last_frame - config.first_frame);
@@ -327,12 +320,12 @@ HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config, Progress
   }
   result.interpolated = config.options.interpolate.value_or(AnyFractional(cameras, times));
   const auto plan =
-      PlanSources(layout, cameras, reference, times, result.interpolated, config.first_frame);
+      PlanSources(silhouettes, cameras, reference, times, result.interpolated, config.first_frame);
 
   result.voxel_size =
       config.options.voxel_size > 0
           ? config.options.voxel_size
-          : DefaultVoxelSize(layout, cameras, plan[0], config.options.voxels_per_diagonal);
+          : DefaultVoxelSize(silhouettes, cameras, plan[0], config.options.voxels_per_diagonal);
   std::filesystem::create_directories(config.output);
   if (config.options.overlays) std::filesystem::create_directories(config.output / "overlays");
 
@@ -345,7 +338,8 @@ HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config, Progress
   ParallelFor(n, frame_threads, [&](size_t f) {
     if (progress && progress->cancelled()) return;
     const double time = result.frames[f].time_s;
-    result.frames[f] = BuildFrame(layout, cameras, plan[f], carve, config, result.frames[f].frame);
+    result.frames[f] =
+        BuildFrame(silhouettes, cameras, plan[f], carve, config, result.frames[f].frame);
     result.frames[f].time_s = time;
     if (progress) progress->Advance();
   });

@@ -42,7 +42,7 @@ struct HullSequenceOptions {
 
 // Inputs and outputs of one run.
 struct HullSequenceConfig {
-  std::filesystem::path input;        // dataset folder with <camera>/masks/%06d.png
+  std::filesystem::path input;        // dataset folder or session store (silhouette_source.h)
   std::filesystem::path calibration;  // calibration.yaml (or ground_truth.yaml)
   std::filesystem::path output;       // created if missing
   int first_frame = 0;                // reference frames [first_frame, last_frame)
@@ -83,11 +83,11 @@ struct HullSequenceResult {
   bool AllClosedManifold() const;
 };
 
-// Runs the job on the calibration's cameras (dataset cameras the calibration lacks, such as
+// Runs the job on the calibration's cameras (input cameras the calibration lacks, such as
 // ones it could not place, are left out with a warning). Throws InputError for a calibration
-// camera without masks, masks whose size differs from the calibration, an empty or
-// out-of-range frame range, and unreadable files. Per-frame failures are data. `progress`
-// (may be null) counts frames and is polled for cancellation between frames.
+// camera without silhouettes, silhouettes whose size differs from the calibration, an empty
+// or out-of-range frame range, and unreadable or missing silhouettes. Per-frame failures are
+// data. `progress` (may be null) counts frames and is polled for cancellation between frames.
 HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config, Progress* progress);
 
 // The reference camera's index in `cameras` by the rule above (0 if none has offset 0).
