@@ -21,7 +21,8 @@ int main(int argc, char** argv) {
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
       ->capture_default_str();
   const cli::Command commands[] = {cli::AddIngestCommand(app), cli::AddPairsCommand(app),
-                                   cli::AddCalibrateCommand(app), cli::AddHullsCommand(app)};
+                                   cli::AddCalibrateCommand(app), cli::AddHullsCommand(app),
+                                   cli::AddLiveCommand(app)};
   CLI11_PARSE(app, argc, argv);
   cli::WatchSignals();
   try {

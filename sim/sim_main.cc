@@ -1,15 +1,18 @@
 // silnet-sim: simulated camera networks with ground truth.
 //   silnet-sim generate -o DIR [options]   write a dataset folder (masks, frames, ground truth)
+//   silnet-sim run-nodes DIR [options]     a live silnet-node per camera of the dataset
 
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <filesystem>
 #include <regex>
 
 #include "shared/util/check.h"
 #include "shared/util/log.h"
 #include "sim/dataset_generator.h"
+#include "sim/node_launcher.h"
 
 namespace {
 
@@ -56,6 +59,17 @@ int RunGenerate(const silnet::sim::SimulationOptions& base, const std::string& o
                 c.time_offset);
   }
   return 0;
+}
+
+// silnet-node beside this program in a build tree (build/sim/silnet-sim ->
+// build/node/silnet-node) or in the same folder (an installation).
+std::filesystem::path DefaultNodeBinary() {
+  std::error_code error;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (error) return "silnet-node";
+  const std::filesystem::path beside = self.parent_path() / "silnet-node";
+  if (std::filesystem::exists(beside)) return beside;
+  return self.parent_path().parent_path() / "node" / "silnet-node";
 }
 
 }  // namespace
@@ -115,6 +129,24 @@ int main(int argc, char** argv) {
   generate->add_flag("--steady-light", steady_light, "no lighting changes");
   generate->add_flag("--force", options.overwrite, "write into a non-empty folder");
 
+  silnet::sim::NodeLaunchOptions nodes;
+  std::string node_binary;
+  CLI::App* run_nodes =
+      app.add_subcommand("run-nodes", "start a live silnet-node per camera of a dataset");
+  run_nodes->add_option("dataset", nodes.dataset, "dataset folder from `generate`")->required();
+  run_nodes->add_option("--node", node_binary, "the silnet-node program (default: the build's)");
+  run_nodes->add_option("--logs", nodes.log_dir,
+                        "folder for the nodes' logs (default: beside "
+                        "the dataset, node-logs/)");
+  run_nodes->add_option("--speed", nodes.speed, "replay speed (1 = the cameras' frame rates)")
+      ->capture_default_str();
+  run_nodes->add_flag("--masks", nodes.masks, "replay masks instead of segmenting colour frames");
+  run_nodes->add_option("--linger", nodes.linger_s, "seconds nodes stay after their feed ends")
+      ->capture_default_str();
+  run_nodes->add_option("--start-delay", nodes.start_delay_s, "seconds until the common start")
+      ->capture_default_str();
+  run_nodes->add_option("--node-arg", nodes.extra_args, "an argument for every node (repeatable)");
+
   CLI11_PARSE(app, argc, argv);
   try {
     silnet::ConfigureLogging("silnet-sim", log_level);
@@ -125,6 +157,14 @@ int main(int argc, char** argv) {
     options.render.shadows = !no_shadows;
     options.scene.lighting_changes = !steady_light;
     if (generate->parsed()) return RunGenerate(options, output, size, layout, subject, seed);
+    if (run_nodes->parsed()) {
+      nodes.node_binary =
+          node_binary.empty() ? DefaultNodeBinary() : std::filesystem::path(node_binary);
+      if (nodes.log_dir.empty()) nodes.log_dir = nodes.dataset.parent_path() / "node-logs";
+      const int failed = silnet::sim::RunNodes(nodes);
+      if (failed > 0) std::fprintf(stderr, "silnet-sim: %d node(s) failed\n", failed);
+      return failed > 0 ? 1 : 0;
+    }
   } catch (const InputError& e) {
     std::fprintf(stderr, "silnet-sim: %s\n", e.what());
     return 2;

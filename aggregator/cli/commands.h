@@ -17,5 +17,6 @@ Command AddIngestCommand(CLI::App& app);
 Command AddPairsCommand(CLI::App& app);
 Command AddCalibrateCommand(CLI::App& app);
 Command AddHullsCommand(CLI::App& app);
+Command AddLiveCommand(CLI::App& app);
 
 }  // namespace silnet::aggregator::cli

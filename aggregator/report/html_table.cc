@@ -1,8 +1,44 @@
 #include "aggregator/report/html_table.h"
 
+#include <fmt/format.h>
+
+#include <fstream>
 #include <utility>
 
+#include "shared/util/check.h"
+
 namespace silnet::aggregator {
+namespace {
+
+constexpr const char* kStyle = R"(
+body { font-family: sans-serif; margin: 2em; color: #222; max-width: 1500px; }
+h1 { font-size: 1.6em; } h2 { font-size: 1.25em; margin-top: 1.6em; border-bottom: 1px solid #ccc; }
+table { border-collapse: collapse; margin: 0.5em 0; font-size: 0.9em; }
+th, td { border: 1px solid #ccc; padding: 3px 8px; text-align: left; vertical-align: top; }
+th { background: #f0f0f0; }
+tr.bad td { background: #fde8e8; }
+tr.warn td { background: #fff6da; }
+ul.bad { color: #a00; }
+.muted { color: #777; }
+img { max-width: 100%; border: 1px solid #ddd; margin: 0.3em 0; }
+)";
+
+}  // namespace
+
+std::string Section(const std::string& title, const std::string& body) {
+  return "<h2>" + EscapeHtml(title) + "</h2>\n" + body;
+}
+
+void WriteHtmlPage(const std::filesystem::path& path, const std::string& title,
+                   const std::string& body) {
+  std::ofstream out(path, std::ios::binary);
+  out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>"
+      << EscapeHtml(title) << "</title>\n<style>" << kStyle << "</style>\n</head>\n<body>\n<h1>"
+      << EscapeHtml(title) << "</h1>\n"
+      << body << "</body>\n</html>\n";
+  out.flush();
+  if (!out) throw InputError(fmt::format("cannot write report '{}'", path.string()));
+}
 
 std::string EscapeHtml(std::string_view text) {
   std::string out;

@@ -1,6 +1,7 @@
 #pragma once
 // Minimal HTML building for the reports: escaping and tables whose cells are escaped text.
 
+#include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -9,6 +10,14 @@ namespace silnet::aggregator {
 
 // `text` with &, <, >, " and ' replaced by character references.
 std::string EscapeHtml(std::string_view text);
+
+// "<h2>title</h2>" (escaped) followed by `body` (HTML).
+std::string Section(const std::string& title, const std::string& body);
+
+// Writes a self-contained page: the reports' style sheet, <h1>`title`</h1> and `body`
+// (HTML). Throws InputError naming the path if it cannot be written.
+void WriteHtmlPage(const std::filesystem::path& path, const std::string& title,
+                   const std::string& body);
 
 // A table built row by row. Cells are plain text (escaped when written); a row may carry a
 // CSS class (e.g. "bad" for unplaced cameras or rejected edges).

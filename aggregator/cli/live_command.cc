@@ -1,0 +1,95 @@
+// silnet-aggregator live: ingest, calibrate once enough motion was seen, publish, build the
+// hulls of the frames that follow, and write the report (aggregator/live/live_job.h).
+
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <thread>
+
+#include "aggregator/cli/cli_support.h"
+#include "aggregator/cli/commands.h"
+#include "aggregator/live/live_job.h"
+#include "aggregator/live/live_report.h"
+#include "shared/util/check.h"
+
+namespace silnet::aggregator::cli {
+namespace {
+
+struct LiveArgs {
+  std::string out, ground_truth;
+  int cameras = 0, calibrate_after = 400, hull_frames = 30, hull_gap = 10, attempts = 3;
+  double idle_exit_s = 5.0, give_up_s = 60.0, rig_radius = 1.0;
+  bool no_publish = false, polyhedral = false, overlays = false;
+  PairwiseArgs pairwise;
+};
+
+int RunLive(const LiveArgs& args) {
+  LiveJobOptions options;
+  options.output = args.out;
+  options.domain = dds::DomainConfig::FromEnvironment();
+  options.expected_cameras = args.cameras;
+  options.calibrate_after_frames = args.calibrate_after;
+  options.max_calibration_attempts = args.attempts;
+  options.hull_frames = args.hull_frames;
+  options.hull_gap_frames = args.hull_gap;
+  options.ground_truth = args.ground_truth;
+  options.publish = !args.no_publish;
+  options.idle_exit_s = args.idle_exit_s;
+  options.give_up_s = args.give_up_s;
+  options.calibrate.pairwise = args.pairwise.Options();
+  options.calibrate.calibration.rig_radius = args.rig_radius;
+  options.calibrate.calibration.bundle.threads =
+      static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  options.hulls.polyhedral = args.polyhedral;
+  options.hulls.overlays = args.overlays;
+  if (!args.ground_truth.empty() && !std::filesystem::is_regular_file(args.ground_truth))
+    throw InputError("--ground-truth " + args.ground_truth + " is not a file");
+  const LiveJobResult result = RunLiveJob(options, [] { return StopRequested(); });
+  WriteLiveReport(options.output, result);
+  std::printf("%s", LiveSummary(options.output, result).c_str());
+  if (StopRequested()) return 130;
+  return result.failure.empty() ? 0 : 3;
+}
+
+}  // namespace
+
+Command AddLiveCommand(CLI::App& app) {
+  auto args = std::make_shared<LiveArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "live", "ingest, calibrate once enough motion was seen, publish, build hulls, report");
+  cmd->add_option("-o,--out", args->out,
+                  "output folder: session/, calibration/, hulls/, report.html")
+      ->required();
+  cmd->add_option("--cameras", args->cameras,
+                  "wait for this many cameras (0: those that show up within 3 s of each other)")
+      ->capture_default_str();
+  cmd->add_option("--calibrate-after", args->calibrate_after,
+                  "frames every camera must stream before the first calibration attempt")
+      ->capture_default_str();
+  cmd->add_option("--attempts", args->attempts,
+                  "calibration attempts, each on 1.5x the frames of the one before")
+      ->capture_default_str();
+  cmd->add_option("--hull-frames", args->hull_frames, "frames to build hulls of (0: none)")
+      ->capture_default_str();
+  cmd->add_option("--hull-gap", args->hull_gap,
+                  "frames between the calibration window and the first hull frame")
+      ->capture_default_str();
+  cmd->add_option("--ground-truth", args->ground_truth,
+                  "a simulation's ground_truth.yaml to compare the calibration with");
+  cmd->add_option("--rig-radius", args->rig_radius,
+                  "world scale: mean distance of the cameras from their centroid")
+      ->capture_default_str();
+  cmd->add_flag("--no-publish", args->no_publish, "do not publish the calibration on DDS");
+  cmd->add_flag("--polyhedral", args->polyhedral, "exact polyhedral hulls (voxels as fallback)");
+  cmd->add_flag("--overlays", args->overlays, "hull reprojection overlays per view");
+  cmd->add_option("--idle-exit", args->idle_exit_s,
+                  "once hulls are built, exit after this many seconds without samples")
+      ->capture_default_str();
+  cmd->add_option("--give-up-after", args->give_up_s,
+                  "exit after this many seconds without samples in any case")
+      ->capture_default_str();
+  args->pairwise.AddTo(cmd);
+  return {cmd, [args] { return RunLive(*args); }};
+}
+
+}  // namespace silnet::aggregator::cli

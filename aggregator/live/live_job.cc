@@ -1,0 +1,331 @@
+#include "aggregator/live/live_job.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <future>
+#include <limits>
+
+#include "aggregator/calibration/calibration_publisher.h"
+#include "shared/io/calibration_yaml.h"
+#include "shared/util/check.h"
+
+namespace silnet::aggregator {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// Frames 0..n-1 of a camera's newest session are all held: returns n (0 while a gap is open).
+int StreamedFrames(const CameraIngestStatus& c) {
+  if (c.frames_held == 0 || c.first_frame != 0 || c.missing != 0) return 0;
+  return static_cast<int>(c.last_frame + 1);
+}
+
+int FewestStreamed(const std::vector<CameraIngestStatus>& cameras) {
+  int fewest = std::numeric_limits<int>::max();
+  for (const CameraIngestStatus& c : cameras)
+    fewest = std::min(fewest, StreamedFrames(c));
+  return cameras.empty() ? 0 : fewest;
+}
+
+enum class Stage { kCollecting, kCalibrating, kWaitingForHullFrames, kBuildingHulls, kDone };
+
+const char* ToString(Stage stage) {
+  switch (stage) {
+    case Stage::kCollecting:
+      return "collecting frames for the calibration";
+    case Stage::kCalibrating:
+      return "calibrating";
+    case Stage::kWaitingForHullFrames:
+      return "waiting for the frames to build hulls of";
+    case Stage::kBuildingHulls:
+      return "building hulls";
+    case Stage::kDone:
+      return "done; ingesting until the nodes finish";
+  }
+  return "?";
+}
+
+// The job's state between polls.
+class LiveJob {
+ public:
+  LiveJob(const LiveJobOptions& options, const std::function<bool()>& stop)
+      : options_(options),
+        stop_(stop),
+        ingest_(IngestOptionsFor(options)),
+        calibration_frames_(options.calibrate_after_frames) {}
+
+  LiveJobResult Run() {
+    const auto start = Clock::now();
+    ingest_.Open();
+    participant_ = std::make_unique<dds::Participant>(options_.domain);
+    spdlog::info("live: ingesting into {} ({}); calibrating once every camera has {} frames",
+                 (options_.output / "session").string(), options_.domain.Describe(),
+                 calibration_frames_);
+    auto last_activity = Clock::now();
+    auto next_status = Clock::now() + std::chrono::seconds(5);
+    while (!stop_()) {
+      if (ingest_.Poll(std::chrono::milliseconds(100)) > 0) last_activity = Clock::now();
+      const std::vector<CameraIngestStatus> cameras = ingest_.Status();
+      const double idle = SecondsSince(last_activity);
+      if (Clock::now() >= next_status) {
+        next_status = Clock::now() + std::chrono::seconds(5);
+        LogStatus(cameras);
+      }
+      Advance(cameras, idle);
+      if (stage_ == Stage::kDone && idle > options_.idle_exit_s && ingest_.Totals().missing == 0) {
+        break;
+      }
+      if (idle > options_.give_up_s && ingest_.Totals().received > 0) {
+        spdlog::warn("live: no samples for {:.0f} s: stopping while {}", idle, ToString(stage_));
+        if (result_.failure.empty())
+          result_.failure = fmt::format("the streams went silent while {}", ToString(stage_));
+        break;
+      }
+    }
+    Cancel();
+    if (stop_() && result_.failure.empty() && stage_ != Stage::kDone)
+      result_.failure = fmt::format("stopped while {}", ToString(stage_));
+    ingest_.Flush();
+    ingest_.WriteSummary(options_.output / "session" / "ingest_summary.yaml");
+    result_.cameras = ingest_.Status();
+    result_.ingest = ingest_.Totals();
+    result_.seconds = SecondsSince(start);
+    return std::move(result_);
+  }
+
+ private:
+  static IngestOptions IngestOptionsFor(const LiveJobOptions& options) {
+    IngestOptions ingest;
+    ingest.store_dir = options.output / "session" / "sessions";
+    ingest.domain = options.domain;
+    return ingest;
+  }
+
+  void LogStatus(const std::vector<CameraIngestStatus>& cameras) const {
+    const IngestTotals totals = ingest_.Totals();
+    int most = 0;
+    for (const CameraIngestStatus& c : cameras)
+      most = std::max(most, StreamedFrames(c));
+    spdlog::info("live: {}; {} cameras, {}..{} frames each, {} missing, {} stalled",
+                 ToString(stage_), cameras.size(), FewestStreamed(cameras), most, totals.missing,
+                 totals.cameras_stalled);
+  }
+
+  void Advance(const std::vector<CameraIngestStatus>& cameras, double idle) {
+    switch (stage_) {
+      case Stage::kCollecting:
+        if (ReadyToCalibrate(cameras)) StartCalibration();
+        break;
+      case Stage::kCalibrating:
+        if (Ready(calibration_future_)) FinishCalibration(idle);
+        break;
+      case Stage::kWaitingForHullFrames:
+        if (ReadyForHulls(cameras, idle)) StartHulls();
+        break;
+      case Stage::kBuildingHulls:
+        if (Ready(hulls_future_)) FinishHulls();
+        break;
+      case Stage::kDone:
+        break;
+    }
+  }
+
+  template <class T>
+  static bool Ready(const std::future<T>& future) {
+    return future.valid() && future.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+  }
+
+  bool ReadyToCalibrate(const std::vector<CameraIngestStatus>& cameras) {
+    if (cameras.size() != camera_count_) {
+      camera_count_ = cameras.size();
+      cameras_changed_ = Clock::now();
+    }
+    const bool all_here = options_.expected_cameras > 0
+                              ? static_cast<int>(cameras.size()) >= options_.expected_cameras
+                              : cameras.size() >= 2 && SecondsSince(cameras_changed_) > 3.0;
+    return all_here && FewestStreamed(cameras) >= calibration_frames_;
+  }
+
+  void StartCalibration() {
+    ++result_.calibration_attempts;
+    if (!options_.ground_truth.empty()) {
+      std::filesystem::copy_file(options_.ground_truth,
+                                 options_.output / "session" / "ground_truth.yaml",
+                                 std::filesystem::copy_options::overwrite_existing);
+    }
+    CalibrateJobConfig config = options_.calibrate;
+    config.input = options_.output / "session";
+    config.output = options_.output / "calibration";
+    config.max_frames = calibration_frames_;
+    spdlog::info("live: calibrating from the first {} frames of every camera (attempt {})",
+                 calibration_frames_, result_.calibration_attempts);
+    progress_ = std::make_unique<Progress>("calibrate", 0, ConsoleProgressPrinter(),
+                                           std::chrono::seconds(5));
+    Progress* progress = progress_.get();
+    calibration_future_ = std::async(
+        std::launch::async, [config, progress] { return RunCalibrateJob(config, progress); });
+    stage_ = Stage::kCalibrating;
+  }
+
+  void FinishCalibration(double idle) {
+    CalibrateJobResult calibration;
+    try {
+      calibration = calibration_future_.get();
+    } catch (const std::exception& e) {
+      Fail(fmt::format("calibration failed: {}", e.what()));
+      return;
+    }
+    const size_t placed = calibration.calibration.PlacedCount();
+    const bool complete = placed == calibration.calibration.cameras.size();
+    const bool more_frames_may_come = idle < options_.idle_exit_s;
+    if (!complete && result_.calibration_attempts < options_.max_calibration_attempts &&
+        more_frames_may_come) {
+      calibration_frames_ = calibration_frames_ * 3 / 2;
+      spdlog::warn(
+          "live: {} of {} cameras calibrated from the motion seen so far; trying again on {} "
+          "frames",
+          placed, calibration.calibration.cameras.size(), calibration_frames_);
+      stage_ = Stage::kCollecting;
+      return;
+    }
+    result_.calibration_frames = calibration_frames_;
+    result_.calibration = std::move(calibration);
+    if (placed < 2) {
+      Fail(fmt::format("only {} camera(s) could be calibrated", placed));
+      return;
+    }
+    spdlog::info("live: {} of {} cameras calibrated, reprojection rms {:.3f} px", placed,
+                 result_.calibration->calibration.cameras.size(),
+                 result_.calibration->calibration.rms_px);
+    if (options_.publish) {
+      publisher_ = std::make_unique<CalibrationPublisher>(*participant_);
+      publisher_->Publish(result_.calibration->calibration, NewCalibrationId());
+      result_.published = true;
+      spdlog::info("live: calibration published on {}", options_.domain.Describe());
+    }
+    hull_cameras_ = LoadCalibration(options_.output / "calibration" / "calibration.yaml");
+    result_.hull_first_frame = calibration_frames_ + options_.hull_gap_frames;
+    hull_count_ = options_.hull_frames;
+    stage_ = hull_count_ > 0 ? Stage::kWaitingForHullFrames : Stage::kDone;
+  }
+
+  // The last frame of `camera` the hull of reference frame `frame` needs (the next one too
+  // for sub-frame interpolation).
+  int NeededFrame(const CameraModel& camera, int frame) const {
+    const CameraModel& reference = hull_cameras_[ReferenceCameraIndex(hull_cameras_)];
+    return static_cast<int>(std::ceil(camera.FrameAt(reference.ExposureTime(frame)))) + 1;
+  }
+
+  // Reference frames [first, first + n) can be built once every calibrated camera holds the
+  // frames they need with their contours; if the streams end first, fewer frames are built.
+  bool ReadyForHulls(const std::vector<CameraIngestStatus>& cameras, double idle) {
+    auto have = [&](int n) {
+      const int last = result_.hull_first_frame + n - 1;
+      for (const CameraModel& camera : hull_cameras_) {
+        auto it = std::find_if(cameras.begin(), cameras.end(), [&](const CameraIngestStatus& c) {
+          return c.camera_id == camera.id;
+        });
+        if (it == cameras.end() || StreamedFrames(*it) <= NeededFrame(camera, last)) return false;
+      }
+      return true;
+    };
+    if (ingest_.Totals().contours_overdue > 0) return false;
+    if (have(hull_count_)) return true;
+    if (idle < options_.idle_exit_s) return false;
+    // The streams ended: build what arrived.
+    while (hull_count_ > 0 && !have(hull_count_))
+      --hull_count_;
+    if (hull_count_ == 0) {
+      Fail("the streams ended before any frame after the calibration window arrived");
+      return false;
+    }
+    spdlog::warn("live: the streams ended; building hulls of {} frames instead of {}", hull_count_,
+                 options_.hull_frames);
+    return true;
+  }
+
+  void StartHulls() {
+    HullSequenceConfig config;
+    config.input = options_.output / "session";
+    config.calibration = options_.output / "calibration" / "calibration.yaml";
+    config.output = options_.output / "hulls";
+    config.first_frame = result_.hull_first_frame;
+    config.last_frame = result_.hull_first_frame + hull_count_;
+    config.options = options_.hulls;
+    spdlog::info("live: building the hulls of frames {}..{}", config.first_frame,
+                 config.last_frame - 1);
+    progress_ =
+        std::make_unique<Progress>("hulls", 0, ConsoleProgressPrinter(), std::chrono::seconds(5));
+    Progress* progress = progress_.get();
+    hulls_future_ = std::async(std::launch::async,
+                               [config, progress] { return RunHullSequenceJob(config, progress); });
+    stage_ = Stage::kBuildingHulls;
+  }
+
+  void FinishHulls() {
+    try {
+      result_.hulls = hulls_future_.get();
+      spdlog::info("live: {} of {} hulls built, mean missed {:.2f} % of silhouette pixels",
+                   result_.hulls->Succeeded(), result_.hulls->frames.size(),
+                   100 * result_.hulls->MeanMissed());
+    } catch (const std::exception& e) {
+      result_.failure = fmt::format("hulls failed: {}", e.what());
+      spdlog::error("live: {}", result_.failure);
+    }
+    stage_ = Stage::kDone;
+  }
+
+  void Fail(const std::string& why) {
+    result_.failure = why;
+    spdlog::error("live: {}", why);
+    stage_ = Stage::kDone;
+  }
+
+  // Cancels and waits for a background stage still running.
+  void Cancel() {
+    if (progress_ && (calibration_future_.valid() || hulls_future_.valid())) progress_->Cancel();
+    try {
+      if (calibration_future_.valid()) calibration_future_.get();
+      if (hulls_future_.valid()) hulls_future_.get();
+    } catch (const std::exception& e) {
+      spdlog::warn("live: a cancelled stage ended with: {}", e.what());
+    }
+  }
+
+  const LiveJobOptions& options_;
+  std::function<bool()> stop_;
+  IngestService ingest_;
+  std::unique_ptr<dds::Participant> participant_;
+  std::unique_ptr<CalibrationPublisher> publisher_;
+  Stage stage_ = Stage::kCollecting;
+  size_t camera_count_ = 0;
+  Clock::time_point cameras_changed_ = Clock::now();
+  int calibration_frames_;
+  int hull_count_ = 0;
+  std::vector<CameraModel> hull_cameras_;
+  std::unique_ptr<Progress> progress_;
+  std::future<CalibrateJobResult> calibration_future_;
+  std::future<HullSequenceResult> hulls_future_;
+  LiveJobResult result_;
+};
+
+}  // namespace
+
+LiveJobResult RunLiveJob(const LiveJobOptions& options, const std::function<bool()>& stop) {
+  if (options.calibrate_after_frames < 10)
+    throw InputError("the calibration needs at least 10 frames per camera");
+  if (options.hull_frames < 0) throw InputError("the number of hull frames must not be negative");
+  std::filesystem::create_directories(options.output);
+  LiveJob job(options, stop);
+  return job.Run();
+}
+
+}  // namespace silnet::aggregator

@@ -1,0 +1,58 @@
+#pragma once
+// The live job, `silnet-aggregator live -o OUT`: the aggregator as the main job runs it. It
+// ingests every node's streams into OUT/session (as `ingest` does); once every camera has
+// streamed enough frames it calibrates and synchronises the network from them in the
+// background (as `calibrate` does, into OUT/calibration), retrying on more frames if the
+// motion seen so far was not enough; it publishes the calibration on DDS; it builds the
+// visual hulls of frames that follow the calibration window as soon as they have arrived
+// (OUT/hulls); and it keeps ingesting until the nodes are done. Progress goes to the log
+// as it happens; the result feeds the report (live_report.h).
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "aggregator/calibration/calibrate_job.h"
+#include "aggregator/hulls/hull_sequence_job.h"
+#include "aggregator/ingest/ingest_service.h"
+
+namespace silnet::aggregator {
+
+// Settings of the live job.
+struct LiveJobOptions {
+  std::filesystem::path output;
+  dds::DomainConfig domain;
+  int expected_cameras = 0;            // wait for this many cameras (0: those that show up)
+  int calibrate_after_frames = 400;    // frames every camera must have streamed first
+  int max_calibration_attempts = 3;    // each waits for 1.5x the frames of the one before
+  int hull_gap_frames = 10;            // first hull frame: this long after the window
+  int hull_frames = 30;                // reference frames to build hulls of
+  std::filesystem::path ground_truth;  // a simulation's ground_truth.yaml to compare with
+  bool publish = true;                 // publish the calibration on DDS
+  double idle_exit_s = 5.0;            // once hulls are built, exit after this long without samples
+  double give_up_s = 60.0;             // exit after this long without samples in any case
+  CalibrateJobConfig calibrate;        // pairwise and calibration settings (input/output are set)
+  HullSequenceOptions hulls;
+};
+
+// What happened; `failure` says why a stage did not complete (empty when all did).
+struct LiveJobResult {
+  std::vector<CameraIngestStatus> cameras;
+  IngestTotals ingest;
+  std::optional<CalibrateJobResult> calibration;
+  int calibration_frames = 0;  // frames per camera the calibration used
+  int calibration_attempts = 0;
+  bool published = false;
+  std::optional<HullSequenceResult> hulls;
+  int hull_first_frame = 0;
+  std::string failure;
+  double seconds = 0.0;
+};
+
+// Runs the job until it is done, `stop()` returns true, or the streams stay silent for
+// give_up_s. Throws InputError/DdsError if the store or DDS cannot be opened.
+LiveJobResult RunLiveJob(const LiveJobOptions& options, const std::function<bool()>& stop);
+
+}  // namespace silnet::aggregator

@@ -1,0 +1,168 @@
+#include "aggregator/live/live_report.h"
+
+#include <fmt/format.h>
+
+#include <opencv2/core/persistence.hpp>
+
+#include "aggregator/report/html_table.h"
+#include "aggregator/report/report_sections.h"
+#include "shared/util/check.h"
+
+namespace silnet::aggregator {
+namespace {
+
+std::string Percent(double fraction) {
+  return fmt::format("{:.2f} %", 100 * fraction);
+}
+
+std::string IngestSection(const LiveJobResult& r) {
+  HtmlTable table({"camera", "session", "frames held", "missing", "received", "contours",
+                   "duplicates", "out of order", "malformed", "re-send requests", "stalls",
+                   "store failures", "node"});
+  for (const CameraIngestStatus& c : r.cameras) {
+    table.AddRow({c.camera_id, std::to_string(c.session), std::to_string(c.frames_held),
+                  std::to_string(c.missing), std::to_string(c.received), std::to_string(c.contours),
+                  std::to_string(c.duplicates), std::to_string(c.out_of_order),
+                  std::to_string(c.malformed), std::to_string(c.resend_requests),
+                  std::to_string(c.stalls), std::to_string(c.store_failures), c.node_state},
+                 c.missing > 0 || c.malformed > 0 ? "warn" : "");
+  }
+  return fmt::format(
+             "<p>{} samples received, {} frames held, {} missing; DDS lost {} and "
+             "rejected {} samples.</p>\n",
+             r.ingest.received, r.ingest.stored, r.ingest.missing, r.ingest.dds_samples_lost,
+             r.ingest.dds_samples_rejected) +
+         table.ToHtml();
+}
+
+std::string CalibrationSection(const LiveJobResult& r) {
+  if (!r.calibration) return "<p class=\"muted\">no calibration</p>\n";
+  const NetworkCalibration& c = r.calibration->calibration;
+  std::string html = fmt::format(
+      "<p>From the first {} frames of every camera (attempt {}); {} in {:.1f} s. Full report: "
+      "<a href=\"calibration/report/report.html\">calibration/report/report.html</a>.</p>\n",
+      r.calibration_frames, r.calibration_attempts,
+      r.published ? "published on DDS" : "not published", r.calibration->seconds);
+  html += SummarySection(c);
+  html +=
+      "<figure><img src=\"calibration/report/plots/camera_network.png\" alt=\"camera "
+      "network\"><figcaption>The calibrated cameras and frontier points.</figcaption>"
+      "</figure>\n";
+  html +=
+      "<figure><img src=\"calibration/report/plots/offsets_graph.png\" alt=\"offsets\">"
+      "<figcaption>Time offsets (frames) and the pairwise measurements.</figcaption>"
+      "</figure>\n";
+  if (r.calibration->errors)
+    html += Section("Against ground truth", GroundTruthSection(*r.calibration->errors));
+  return html;
+}
+
+std::string HullsSection(const LiveJobResult& r) {
+  if (!r.hulls) return "<p class=\"muted\">no hulls</p>\n";
+  const HullSequenceResult& h = *r.hulls;
+  HtmlTable table({"frame", "file", "method", "closed manifold", "triangles", "volume m^3",
+                   "missed (mean over views)", "outside (mean over views)", "note"});
+  for (const HullFrameResult& f : h.frames) {
+    double missed = 0, spurious = 0;
+    for (const ViewReprojection& v : f.views) {
+      missed += v.missed_fraction / static_cast<double>(f.views.size());
+      spurious += v.spurious_fraction / static_cast<double>(f.views.size());
+    }
+    table.AddRow({std::to_string(f.frame), f.file, f.method, f.closed_manifold ? "yes" : "no",
+                  std::to_string(f.triangles), fmt::format("{:.4f}", f.volume_m3), Percent(missed),
+                  Percent(spurious), f.success ? f.polyhedral_failure : f.reason},
+                 f.success ? "" : "bad");
+  }
+  std::string html = fmt::format(
+      "<p>{} of {} frames built in {:.1f} s ({}); silhouette pixels the hulls miss: {} on "
+      "average, pixels they cover outside the silhouettes: {}. Meshes and hulls.yaml in "
+      "<a href=\"hulls/\">hulls/</a>.</p>\n",
+      h.Succeeded(), h.frames.size(), h.seconds,
+      h.interpolated ? "silhouettes interpolated to common instants" : "nearest frames",
+      Percent(h.MeanMissed()), Percent(h.MeanSpurious()));
+  return html + table.ToHtml();
+}
+
+void WriteSummaryYaml(const std::filesystem::path& path, const LiveJobResult& r) {
+  cv::FileStorage fs(path.string(), cv::FileStorage::WRITE);
+  if (!fs.isOpened()) throw InputError("cannot write " + path.string());
+  fs << "failure" << r.failure << "seconds" << r.seconds;
+  fs << "cameras" << static_cast<int>(r.cameras.size());
+  fs << "frames_held" << static_cast<double>(r.ingest.stored) << "frames_missing"
+     << static_cast<double>(r.ingest.missing);
+  fs << "calibration_frames" << r.calibration_frames << "calibration_attempts"
+     << r.calibration_attempts << "published" << static_cast<int>(r.published);
+  if (r.calibration) {
+    const NetworkCalibration& c = r.calibration->calibration;
+    fs << "cameras_calibrated" << static_cast<int>(c.PlacedCount()) << "reprojection_rms_px"
+       << c.rms_px;
+    if (r.calibration->errors) {
+      const CalibrationErrors& e = *r.calibration->errors;
+      fs << "ground_truth"
+         << "{"
+         << "median_focal_rel" << e.median_focal_rel << "median_rotation_deg"
+         << e.median_rotation_deg << "max_rotation_deg" << e.max_rotation_deg << "median_center_rel"
+         << e.median_center_rel << "median_offset_frames" << e.median_offset_frames
+         << "max_offset_frames" << e.max_offset_frames << "}";
+    }
+  }
+  if (r.hulls) {
+    fs << "hulls"
+       << "{"
+       << "first_frame" << r.hull_first_frame << "frames"
+       << static_cast<int>(r.hulls->frames.size()) << "built"
+       << static_cast<int>(r.hulls->Succeeded()) << "mean_missed" << r.hulls->MeanMissed()
+       << "mean_spurious" << r.hulls->MeanSpurious() << "}";
+  }
+}
+
+}  // namespace
+
+void WriteLiveReport(const std::filesystem::path& out, const LiveJobResult& result) {
+  std::string html;
+  if (!result.failure.empty())
+    html += "<ul class=\"bad\"><li>" + EscapeHtml(result.failure) + "</li></ul>\n";
+  html += Section("Streams", IngestSection(result));
+  html += Section("Calibration and synchronisation", CalibrationSection(result));
+  html += Section("Visual hulls", HullsSection(result));
+  WriteHtmlPage(out / "report.html", "silnet live run", html);
+  WriteSummaryYaml(out / "live_summary.yaml", result);
+}
+
+std::string LiveSummary(const std::filesystem::path& out, const LiveJobResult& r) {
+  std::string text = fmt::format("silnet live run: {:.0f} s\n", r.seconds);
+  text += fmt::format(
+      "  streams      {} cameras, {} frames held, {} missing, {} malformed, {} "
+      "duplicates, {} stalls\n",
+      r.cameras.size(), r.ingest.stored, r.ingest.missing, r.ingest.malformed, r.ingest.duplicates,
+      r.ingest.stalls);
+  if (r.calibration) {
+    const NetworkCalibration& c = r.calibration->calibration;
+    text += fmt::format(
+        "  calibration  {} of {} cameras from {} frames each (attempt {}), reprojection rms "
+        "{:.3f} px, {}\n",
+        c.PlacedCount(), c.cameras.size(), r.calibration_frames, r.calibration_attempts, c.rms_px,
+        r.published ? "published" : "not published");
+    if (r.calibration->errors) {
+      const CalibrationErrors& e = *r.calibration->errors;
+      text += fmt::format(
+          "  vs truth     focal {:.2f} %, rotation {:.3f} deg (max {:.3f}), centre {:.2f} % of "
+          "the rig, offset {:.3f} frames (max {:.3f})\n",
+          100 * e.median_focal_rel, e.median_rotation_deg, e.max_rotation_deg,
+          100 * e.median_center_rel, e.median_offset_frames, e.max_offset_frames);
+    }
+  }
+  if (r.hulls) {
+    text += fmt::format(
+        "  hulls        {} of {} frames from frame {}, {}closed, silhouette pixels missed {:.2f} "
+        "%, covered outside {:.2f} %\n",
+        r.hulls->Succeeded(), r.hulls->frames.size(), r.hull_first_frame,
+        r.hulls->AllClosedManifold() ? "all " : "not all ", 100 * r.hulls->MeanMissed(),
+        100 * r.hulls->MeanSpurious());
+  }
+  if (!r.failure.empty()) text += "  FAILED       " + r.failure + "\n";
+  text += fmt::format("  report       {}\n", (out / "report.html").string());
+  return text;
+}
+
+}  // namespace silnet::aggregator
