@@ -209,11 +209,29 @@ struct IngestService::Impl {
   }
 
   // A node started a new session (it restarted, perhaps after a crash): once, ask it for
-  // what the previous session's stream did not deliver — its gaps and everything after the
-  // newest frame held. A node that records serves them from its recording.
+  // what the previous session's stream did not deliver — its gaps, contours that did not
+  // arrive, and everything after the newest frame held. A node that records serves them
+  // from its recording.
   void RequestRestOfSession(Track& t) {
-    for (const FrameRange& gap : t.held.Missing(0))
-      RequestResend(t, gap.first, gap.last);
+    std::vector<FrameRange> wanted = t.held.Missing(0);
+    // Frames held without their contour (the hull arrived, the contour did not): while the
+    // node's contour rate is unknown, every frame of a session that has contours is due.
+    const std::string& id = t.status.camera_id;
+    const uint32_t session = t.status.session;
+    uint64_t every = static_cast<uint64_t>(std::max(t.contour_every, 0));
+    if (every == 0 && store.HasAnyContour(id, session)) every = 1;
+    for (const FrameRange& range : every > 0 ? t.held.ranges() : std::vector<FrameRange>{}) {
+      for (uint64_t f = (range.first + every - 1) / every * every; f <= range.last; f += every) {
+        if (store.HasContour(id, session, f)) continue;
+        if (!wanted.empty() && wanted.back().last + 1 == f && every == 1) {
+          wanted.back().last = f;
+        } else {
+          wanted.push_back({f, f});
+        }
+      }
+    }
+    for (const FrameRange& range : wanted)
+      RequestResend(t, range.first, range.last);
     RequestResend(t, t.held.max() + 1, std::numeric_limits<uint64_t>::max());
   }
 

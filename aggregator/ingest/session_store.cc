@@ -97,6 +97,14 @@ bool SessionStore::HasContour(const std::string& camera_id, uint32_t session,
   return s != it->second->contours.end() && s->second.Contains(frame_index);
 }
 
+bool SessionStore::HasAnyContour(const std::string& camera_id, uint32_t session) const {
+  std::lock_guard lock(mutex_);
+  auto it = cameras_.find(camera_id);
+  if (it == cameras_.end()) return false;
+  auto s = it->second->contours.find(session);
+  return s != it->second->contours.end() && !s->second.empty();
+}
+
 std::vector<uint32_t> SessionStore::Sessions(const std::string& camera_id) const {
   std::lock_guard lock(mutex_);
   std::vector<uint32_t> sessions;

@@ -41,6 +41,8 @@ class SessionStore {
   FrameIndexSet HullFrames(const std::string& camera_id, uint32_t session) const;
   // True if the store holds the contour of that frame.
   bool HasContour(const std::string& camera_id, uint32_t session, uint64_t frame_index) const;
+  // True if the store holds any contour of that session.
+  bool HasAnyContour(const std::string& camera_id, uint32_t session) const;
   // Sessions held for a camera, ascending.
   std::vector<uint32_t> Sessions(const std::string& camera_id) const;
   std::vector<std::string> Cameras() const;
