@@ -5,7 +5,6 @@
 #include <spawn.h>
 #include <spdlog/spdlog.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -14,17 +13,12 @@
 
 #include "shared/io/dataset_layout.h"
 #include "shared/util/check.h"
+#include "shared/util/realtime_clock.h"
 
 extern char** environ;
 
 namespace silnet::sim {
 namespace {
-
-int64_t RealtimeNs() {
-  timespec now{};
-  clock_gettime(CLOCK_REALTIME, &now);
-  return static_cast<int64_t>(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
-}
 
 // posix_spawn of `args` with stdout and stderr appended to `log`, signals unblocked.
 pid_t Spawn(const std::vector<std::string>& args, const std::filesystem::path& log) {
@@ -75,7 +69,7 @@ int RunNodes(const NodeLaunchOptions& options) {
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
-  const int64_t start_ns = RealtimeNs() + static_cast<int64_t>(options.start_delay_s * 1e9);
+  const int64_t start_ns = RealtimeNowNs() + static_cast<int64_t>(options.start_delay_s * 1e9);
   std::map<pid_t, std::string> running;
   for (const std::string& id : cameras) {
     std::vector<std::string> args{

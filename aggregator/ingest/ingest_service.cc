@@ -4,11 +4,13 @@
 
 #include <cstdlib>
 #include <limits>
+#include <random>
 #include <opencv2/core/persistence.hpp>
 
 #include "shared/dds/sample_conversions.h"
 #include "shared/silhouette/frame_sample_check.h"
 #include "shared/util/check.h"
+#include "shared/util/realtime_clock.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -27,6 +29,8 @@ struct IngestService::Impl {
     Clock::time_point first_gap_seen{};
     Clock::time_point last_sample{};
     bool any = false;
+    std::vector<float> latencies_ms;  // reservoir of capture-to-arrival latencies
+    uint64_t latency_samples = 0;
   };
 
   IngestOptions options;
@@ -46,6 +50,7 @@ struct IngestService::Impl {
   uint64_t malformed_unknown = 0;
   uint64_t next_command_id = 1;
   bool store_failing = false;  // the last write failed; reported once until one succeeds
+  std::mt19937_64 latency_random{1};
 
   explicit Impl(IngestOptions o) : options(std::move(o)), store(options.store_dir) {}
 
@@ -78,6 +83,8 @@ struct IngestService::Impl {
     Track& t = TrackFor(record.camera_id);
     ++t.status.received;
     NoteSample(t);
+    if (!(record.flags & silnet_wire_FRAME_RESENT) && record.capture_time_ns > 0)
+      NoteLatency(t, (RealtimeNowNs() - record.capture_time_ns) * 1e-6);
     if (record.session > t.status.session) {
       if (t.any) RequestRestOfSession(t);
       StartSession(t, record.session);
@@ -145,6 +152,18 @@ struct IngestService::Impl {
                    std::chrono::duration<double>(now - t.last_sample).count(),
                    t.any ? t.held.max() : 0, t.status.session);
     }
+  }
+
+  // Keeps a uniform sample of at most 4096 latencies (reservoir sampling, fixed seed).
+  void NoteLatency(Track& t, double ms) {
+    constexpr size_t kKeep = 4096;
+    ++t.latency_samples;
+    if (t.latencies_ms.size() < kKeep) {
+      t.latencies_ms.push_back(static_cast<float>(ms));
+      return;
+    }
+    const uint64_t slot = latency_random() % t.latency_samples;
+    if (slot < kKeep) t.latencies_ms[slot] = static_cast<float>(ms);
   }
 
   void NoteSample(Track& t) {
@@ -338,6 +357,7 @@ size_t IngestService::Poll(std::chrono::milliseconds wait) {
         if (sample.session != t.status.session) return;  // another session's counts
         t.status.node_state = dds::ReadBoundedString(sample.state);
         t.status.node_fps = sample.fps;
+        t.status.node_cpu_percent = sample.cpu_percent;
         t.status.node_published = sample.frames_published;
       });
   s.DetectStalls();
@@ -359,6 +379,12 @@ std::vector<CameraIngestStatus> IngestService::Status() const {
       // Frames the node reports published beyond the newest one held.
       if (t.status.node_published > t.held.max() + 1)
         status.missing += t.status.node_published - t.held.max() - 1;
+    }
+    if (!t.latencies_ms.empty()) {
+      std::vector<float> sorted = t.latencies_ms;
+      std::sort(sorted.begin(), sorted.end());
+      status.latency_median_ms = sorted[sorted.size() / 2];
+      status.latency_p99_ms = sorted[std::min(sorted.size() - 1, sorted.size() * 99 / 100)];
     }
     status.seconds_since_last = t.last_sample == Clock::time_point{}
                                     ? -1.0
@@ -415,6 +441,8 @@ void IngestService::WriteSummary(const std::filesystem::path& path) const {
        << static_cast<double>(c.resend_requests) << "resent_received"
        << static_cast<double>(c.resent_received) << "store_failures"
        << static_cast<double>(c.store_failures) << "stalls" << static_cast<double>(c.stalls)
+       << "latency_median_ms" << c.latency_median_ms << "latency_p99_ms" << c.latency_p99_ms
+       << "node_cpu_percent" << c.node_cpu_percent
        << "stalled" << static_cast<int>(c.stalled) << "}";
   }
   fs << "]";

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "shared/util/check.h"
+#include "shared/util/realtime_clock.h"
 
 namespace silnet::node {
 
@@ -76,8 +77,5 @@ class CaptureSource {
   virtual std::string LastError() const = 0;
   virtual CaptureCounters Counters() const = 0;
 };
-
-// Current CLOCK_REALTIME in nanoseconds.
-int64_t RealtimeNowNs();
 
 }  // namespace silnet::node
