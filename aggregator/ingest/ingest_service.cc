@@ -4,8 +4,8 @@
 
 #include <cstdlib>
 #include <limits>
-#include <random>
 #include <opencv2/core/persistence.hpp>
+#include <random>
 
 #include "shared/dds/sample_conversions.h"
 #include "shared/silhouette/frame_sample_check.h"
@@ -31,6 +31,7 @@ struct IngestService::Impl {
     bool any = false;
     std::vector<float> latencies_ms;  // reservoir of capture-to-arrival latencies
     uint64_t latency_samples = 0;
+    uint64_t cpu_statuses = 0;  // NodeStatus samples averaged into node_cpu_percent
   };
 
   IngestOptions options;
@@ -357,7 +358,11 @@ size_t IngestService::Poll(std::chrono::milliseconds wait) {
         if (sample.session != t.status.session) return;  // another session's counts
         t.status.node_state = dds::ReadBoundedString(sample.state);
         t.status.node_fps = sample.fps;
-        t.status.node_cpu_percent = sample.cpu_percent;
+        if (t.status.node_state.starts_with("running")) {
+          ++t.cpu_statuses;
+          t.status.node_cpu_percent += (sample.cpu_percent - t.status.node_cpu_percent) /
+                                       static_cast<double>(t.cpu_statuses);
+        }
         t.status.node_published = sample.frames_published;
       });
   s.DetectStalls();
@@ -442,8 +447,8 @@ void IngestService::WriteSummary(const std::filesystem::path& path) const {
        << static_cast<double>(c.resent_received) << "store_failures"
        << static_cast<double>(c.store_failures) << "stalls" << static_cast<double>(c.stalls)
        << "latency_median_ms" << c.latency_median_ms << "latency_p99_ms" << c.latency_p99_ms
-       << "node_cpu_percent" << c.node_cpu_percent
-       << "stalled" << static_cast<int>(c.stalled) << "}";
+       << "node_cpu_percent" << c.node_cpu_percent << "stalled" << static_cast<int>(c.stalled)
+       << "}";
   }
   fs << "]";
   const IngestTotals totals = Totals();

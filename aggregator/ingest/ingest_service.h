@@ -51,7 +51,7 @@ struct CameraIngestStatus {
   double seconds_since_last = -1;  // since the last sample (negative: none yet)
   std::string node_state;          // from the node's last NodeStatus
   double node_fps = 0.0;
-  double node_cpu_percent = 0.0;  // of one core, from the node's last NodeStatus
+  double node_cpu_percent = 0.0;  // of one core, mean over the node's statuses while running
   uint64_t node_published = 0;
   // Capture to arrival of HullFrame samples first sent (not re-sent), milliseconds; on one
   // host (or with synchronised clocks) this is the end-to-end latency. 0 without samples.
