@@ -231,32 +231,25 @@ std::vector<std::vector<uint8_t>> SessionLogSeeds() {
                 .ok(),
             "seed info appended");
     const auto samples = FrameSampleSeeds();
+    auto append_hull = [&](uint32_t session, uint64_t index, const std::vector<uint8_t>& sample) {
+      FrameRecord record;
+      record.camera_id = "cam00";
+      record.session = session;
+      record.frame_index = index;
+      record.width = 160;
+      record.height = 120;
+      record.payload.assign(sample.begin() + kHeaderBytes, sample.end());
+      Require(writer
+                  .Append(static_cast<uint16_t>(SessionRecordType::kHullFrame),
+                          SerializeFrameRecord(record))
+                  .ok(),
+              "seed frame appended");
+    };
     for (uint32_t session : {1u, 2u}) {
-      for (uint64_t i = 0; i < 3; ++i) {
-        FrameRecord record;
-        record.camera_id = "cam00";
-        record.session = session;
-        record.frame_index = 2 - i;  // out of order: the reader sorts
-        record.width = 160;
-        record.height = 120;
-        record.payload.assign(samples[2 * i].begin() + kHeaderBytes, samples[2 * i].end());
-        Require(writer
-                    .Append(static_cast<uint16_t>(SessionRecordType::kHullFrame),
-                            SerializeFrameRecord(record))
-                    .ok(),
-                "seed frame appended");
-      }
+      for (uint64_t i = 0; i < 3; ++i)
+        append_hull(session, 2 - i, samples[2 * i]);  // out of order: the reader sorts
     }
-    FrameRecord duplicate;
-    duplicate.camera_id = "cam00";
-    duplicate.session = 2;
-    duplicate.width = 160;
-    duplicate.height = 120;
-    Require(writer
-                .Append(static_cast<uint16_t>(SessionRecordType::kHullFrame),
-                        SerializeFrameRecord(duplicate))
-                .ok(),
-            "seed duplicate appended");
+    append_hull(2, 0, samples[4]);  // a duplicate, last: the torn tail cuts it
   }
   std::ifstream in(path, std::ios::binary);
   std::vector<uint8_t> log((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
