@@ -14,6 +14,8 @@
 #include "node/camera_node.h"
 #include "node/capture/source_factory.h"
 #include "shared/dds/dds_error.h"
+#include "shared/io/session_log.h"
+#include "shared/io/session_log_reader.h"
 #include "shared/util/log.h"
 
 namespace {
@@ -26,6 +28,28 @@ std::pair<std::string, std::string> SplitSetting(const std::string& text) {
   if (eq == std::string::npos || eq == 0)
     throw InputError("--set wants name=value, not '" + text + "'");
   return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+}  // namespace
+
+namespace {
+
+// The start time in seconds, or one past the newest session of the node's recording if that
+// is not older: a node restarted within a second never reuses a session id.
+uint32_t DefaultSession(const std::string& record_dir, const std::string& camera_id) {
+  auto session = static_cast<uint32_t>(std::chrono::duration_cast<std::chrono::seconds>(
+                                           std::chrono::system_clock::now().time_since_epoch())
+                                           .count());
+  if (record_dir.empty()) return session;
+  const std::filesystem::path log = silnet::SessionLogPath(record_dir, camera_id);
+  if (!std::filesystem::exists(log)) return session;
+  try {
+    const auto sessions = silnet::ReadSessionLog(log);
+    if (!sessions.empty()) session = std::max(session, sessions.back().session + 1);
+  } catch (const silnet::InputError&) {
+    // An unreadable recording is reported when the recorder opens it.
+  }
+  return session;
 }
 
 }  // namespace
@@ -104,10 +128,7 @@ int main(int argc, char** argv) {
     silnet::ConfigureLogging("silnet-node", log_level);
     options.processing.camera_id = camera_id;
     options.processing.session =
-        session > 0 ? static_cast<uint32_t>(session)
-                    : static_cast<uint32_t>(std::chrono::duration_cast<std::chrono::seconds>(
-                                                std::chrono::system_clock::now().time_since_epoch())
-                                                .count());
+        session > 0 ? static_cast<uint32_t>(session) : DefaultSession(record_dir, camera_id);
     const silnet::node::SourceDescription description =
         silnet::node::ParseSourceDescription(source_text);
     options.processing.segmentation.method = description.masks()
