@@ -30,13 +30,15 @@ void PrintStatus(const std::vector<CameraIngestStatus>& cameras) {
     std::fprintf(
         stderr,
         "  %-8s session %u: %llu frames held (%llu..%llu), %llu missing, %llu duplicates, "
-        "%llu malformed, %llu re-send requests, %llu store failures; node %s %.1f fps%s\n",
+        "%llu malformed, %llu re-send requests, %llu store failures; node %s %.1f fps, %llu "
+        "dropped%s%s\n",
         c.camera_id.c_str(), c.session, static_cast<unsigned long long>(c.frames_held),
         static_cast<unsigned long long>(c.first_frame),
         static_cast<unsigned long long>(c.last_frame), static_cast<unsigned long long>(c.missing),
         static_cast<unsigned long long>(c.duplicates), static_cast<unsigned long long>(c.malformed),
         static_cast<unsigned long long>(c.resend_requests),
         static_cast<unsigned long long>(c.store_failures), c.node_state.c_str(), c.node_fps,
+        static_cast<unsigned long long>(c.node_dropped), c.node_alive ? "" : ", not heard from",
         c.stalled ? "  STALLED" : "");
   }
 }
@@ -59,6 +61,8 @@ int RunIngest(const IngestArgs& args) {
     if (args.status_every_s > 0 && now >= next_status) {
       next_status = now + std::chrono::duration<double>(args.status_every_s);
       PrintStatus(ingest.Status());
+      // The summary doubles as a status file other tools can read while ingest runs.
+      ingest.WriteSummary(std::filesystem::path(args.out) / "ingest_summary.yaml");
     }
     const IngestTotals totals = ingest.Totals();
     const double idle = std::chrono::duration<double>(now - last_activity).count();

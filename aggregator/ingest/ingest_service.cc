@@ -32,6 +32,7 @@ struct IngestService::Impl {
     std::vector<float> latencies_ms;  // reservoir of capture-to-arrival latencies
     uint64_t latency_samples = 0;
     uint64_t cpu_statuses = 0;  // NodeStatus samples averaged into node_cpu_percent
+    Clock::time_point last_status{};
   };
 
   IngestOptions options;
@@ -364,6 +365,8 @@ size_t IngestService::Poll(std::chrono::milliseconds wait) {
                                        static_cast<double>(t.cpu_statuses);
         }
         t.status.node_published = sample.frames_published;
+        t.status.node_dropped = sample.frames_dropped;
+        t.last_status = Clock::now();
       });
   s.DetectStalls();
   s.RequestMissing();
@@ -390,6 +393,10 @@ std::vector<CameraIngestStatus> IngestService::Status() const {
       std::sort(sorted.begin(), sorted.end());
       status.latency_median_ms = sorted[sorted.size() / 2];
       status.latency_p99_ms = sorted[std::min(sorted.size() - 1, sorted.size() * 99 / 100)];
+    }
+    if (t.last_status != Clock::time_point{}) {
+      status.seconds_since_status = std::chrono::duration<double>(now - t.last_status).count();
+      status.node_alive = status.seconds_since_status <= 3.0;
     }
     status.seconds_since_last = t.last_sample == Clock::time_point{}
                                     ? -1.0
@@ -447,8 +454,10 @@ void IngestService::WriteSummary(const std::filesystem::path& path) const {
        << static_cast<double>(c.resent_received) << "store_failures"
        << static_cast<double>(c.store_failures) << "stalls" << static_cast<double>(c.stalls)
        << "latency_median_ms" << c.latency_median_ms << "latency_p99_ms" << c.latency_p99_ms
-       << "node_cpu_percent" << c.node_cpu_percent << "stalled" << static_cast<int>(c.stalled)
-       << "}";
+       << "node_cpu_percent" << c.node_cpu_percent << "node_state" << c.node_state << "node_alive"
+       << static_cast<int>(c.node_alive) << "node_fps" << c.node_fps << "node_dropped"
+       << static_cast<double>(c.node_dropped) << "seconds_since_last_frame" << c.seconds_since_last
+       << "stalled" << static_cast<int>(c.stalled) << "}";
   }
   fs << "]";
   const IngestTotals totals = Totals();

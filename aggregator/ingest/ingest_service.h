@@ -53,6 +53,9 @@ struct CameraIngestStatus {
   double node_fps = 0.0;
   double node_cpu_percent = 0.0;  // of one core, mean over the node's statuses while running
   uint64_t node_published = 0;
+  uint64_t node_dropped = 0;         // frames the node reports lost before publishing
+  double seconds_since_status = -1;  // since the node's last NodeStatus (negative: none)
+  bool node_alive = false;           // a NodeStatus arrived in the last 3 s
   // Capture to arrival of HullFrame samples first sent (not re-sent), milliseconds; on one
   // host (or with synchronised clocks) this is the end-to-end latency. 0 without samples.
   double latency_median_ms = 0.0, latency_p99_ms = 0.0;

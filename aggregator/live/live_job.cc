@@ -78,6 +78,8 @@ class LiveJob {
       if (Clock::now() >= next_status) {
         next_status = Clock::now() + std::chrono::seconds(5);
         LogStatus(cameras);
+        // Every node's state (alive, fps, drops, newest frame) for tools watching the run.
+        ingest_.WriteSummary(options_.output / "session" / "ingest_summary.yaml");
       }
       Advance(cameras, idle);
       if (stage_ == Stage::kDone && idle > options_.idle_exit_s && ingest_.Totals().missing == 0) {

@@ -9,6 +9,7 @@
 #include <sys/resource.h>
 
 #include <fstream>
+#include <opencv2/core/persistence.hpp>
 #include <thread>
 
 #include "shared/io/session_log_reader.h"
@@ -73,6 +74,16 @@ TEST(IngestFaults, AStalledNodeIsReportedAndLosesNothing) {
   std::this_thread::sleep_for(seconds(2));
   node->Signal(SIGSTOP);
   std::this_thread::sleep_for(seconds(4));
+  // The status file written while ingest runs shows the node silent and its stream stalled.
+  cv::FileStorage status((work / "agg/ingest_summary.yaml").string(), cv::FileStorage::READ);
+  ASSERT_TRUE(status.isOpened());
+  const cv::FileNode camera = status["cameras"][0];
+  EXPECT_EQ(static_cast<std::string>(camera["id"]), "cam00");
+  EXPECT_EQ(static_cast<int>(camera["stalled"]), 1);
+  EXPECT_EQ(static_cast<int>(camera["node_alive"]), 0);
+  EXPECT_GT(static_cast<double>(camera["seconds_since_last_frame"]), 1.5);
+  EXPECT_GT(static_cast<double>(camera["frames_held"]), 10.0);
+  status.release();
   node->Signal(SIGCONT);
   ASSERT_EQ(node->Wait(seconds(60)), std::optional<int>(0)) << node->Stderr();
   ASSERT_EQ(aggregator.Wait(seconds(60)), std::optional<int>(0)) << aggregator.Stderr();
