@@ -57,6 +57,7 @@ std::vector<CameraModel> PlacedCameras(const NetworkCalibration& calibration) {
 CalibrateJobResult RunCalibrateJob(const CalibrateJobConfig& config, Progress* progress) {
   const auto start = std::chrono::steady_clock::now();
   SequenceLoadOptions load;
+  load.first_frame = config.first_frame;
   load.max_frames = config.max_frames;
   load.allow_warmup = config.pairwise.pair.allow_warmup;
   load.threads = config.pairwise.threads;

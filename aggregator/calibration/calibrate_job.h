@@ -27,6 +27,7 @@ struct CalibrateJobConfig {
   std::filesystem::path reuse_pairs;  // a `pairs` output folder to reuse instead of estimating
   std::filesystem::path intrinsics;   // calibration YAML with trusted K and dist (known intrinsics)
   CalibrationOptions calibration;
+  int first_frame = 0;               // first frame index to use
   int max_frames = 0;                // 0 = all
   bool report = true;                // write report/ (HTML and plots)
   bool compare_ground_truth = true;  // when the input has ground_truth.yaml

@@ -10,6 +10,7 @@ namespace silnet::aggregator::cli {
 namespace {
 
 std::atomic<bool> g_stop{false};
+std::atomic<bool> g_recalibrate{false};
 
 }  // namespace
 
@@ -21,16 +22,22 @@ void WatchSignals() {
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGHUP);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   std::thread([] {
     int received = 0;
-    sigwait(&signals, &received);
+    while (sigwait(&signals, &received) == 0 && received == SIGHUP)
+      g_recalibrate = true;
     g_stop = true;
   }).detach();
 }
 
 bool StopRequested() {
   return g_stop.load();
+}
+
+bool TakeRecalibrationRequest() {
+  return g_recalibrate.exchange(false);
 }
 
 CancelOnSignal::CancelOnSignal(Progress* progress)

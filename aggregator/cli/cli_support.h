@@ -15,12 +15,14 @@
 
 namespace silnet::aggregator::cli {
 
-// Routes SIGINT and SIGTERM to a watcher thread (other threads have them blocked) and ignores
-// SIGXFSZ (a file-size limit becomes a reported write error); call once
-// before starting threads.
+// Routes SIGINT, SIGTERM and SIGHUP to a watcher thread (other threads have them blocked) and
+// ignores SIGXFSZ (a file-size limit becomes a reported write error); call once before
+// starting threads.
 void WatchSignals();
 // True once SIGINT or SIGTERM arrived.
 bool StopRequested();
+// True once per SIGHUP received since the last call: the service's "recalibrate" command.
+bool TakeRecalibrationRequest();
 
 // Cancels `progress` when SIGINT/SIGTERM arrives, while the job runs.
 class CancelOnSignal {

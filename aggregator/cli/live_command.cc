@@ -19,7 +19,7 @@ struct LiveArgs {
   std::string out, ground_truth;
   int cameras = 0, calibrate_after = 400, hull_frames = 30, hull_gap = 10, attempts = 3;
   double idle_exit_s = 5.0, give_up_s = 60.0, rig_radius = 1.0;
-  bool no_publish = false, polyhedral = false, overlays = false;
+  bool no_publish = false, polyhedral = false, overlays = false, serve = false;
   PairwiseArgs pairwise;
 };
 
@@ -36,6 +36,7 @@ int RunLive(const LiveArgs& args) {
   options.publish = !args.no_publish;
   options.idle_exit_s = args.idle_exit_s;
   options.give_up_s = args.give_up_s;
+  options.serve = args.serve;
   options.calibrate.pairwise = args.pairwise.Options();
   options.calibrate.calibration.rig_radius = args.rig_radius;
   options.calibrate.calibration.bundle.threads =
@@ -44,10 +45,11 @@ int RunLive(const LiveArgs& args) {
   options.hulls.overlays = args.overlays;
   if (!args.ground_truth.empty() && !std::filesystem::is_regular_file(args.ground_truth))
     throw InputError("--ground-truth " + args.ground_truth + " is not a file");
-  const LiveJobResult result = RunLiveJob(options, [] { return StopRequested(); });
+  const LiveJobResult result = RunLiveJob(
+      options, [] { return StopRequested(); }, [] { return TakeRecalibrationRequest(); });
   WriteLiveReport(options.output, result);
   std::printf("%s", LiveSummary(options.output, result).c_str());
-  if (StopRequested()) return 130;
+  if (StopRequested() && !args.serve) return 130;
   return result.failure.empty() ? 0 : 3;
 }
 
@@ -80,6 +82,8 @@ Command AddLiveCommand(CLI::App& app) {
                   "world scale: mean distance of the cameras from their centroid")
       ->capture_default_str();
   cmd->add_flag("--no-publish", args->no_publish, "do not publish the calibration on DDS");
+  cmd->add_flag("--serve", args->serve,
+                "run as a service until SIGINT/SIGTERM; SIGHUP recalibrates on the newest frames");
   cmd->add_flag("--polyhedral", args->polyhedral, "exact polyhedral hulls (voxels as fallback)");
   cmd->add_flag("--overlays", args->overlays, "hull reprojection overlays per view");
   cmd->add_option("--idle-exit", args->idle_exit_s,

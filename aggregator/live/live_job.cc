@@ -35,7 +35,14 @@ int FewestStreamed(const std::vector<CameraIngestStatus>& cameras) {
   return cameras.empty() ? 0 : fewest;
 }
 
-enum class Stage { kCollecting, kCalibrating, kWaitingForHullFrames, kBuildingHulls, kDone };
+enum class Stage {
+  kCollecting,
+  kCalibrating,
+  kWaitingForHullFrames,
+  kBuildingHulls,
+  kDone,
+  kRecalibrating
+};
 
 const char* ToString(Stage stage) {
   switch (stage) {
@@ -48,7 +55,9 @@ const char* ToString(Stage stage) {
     case Stage::kBuildingHulls:
       return "building hulls";
     case Stage::kDone:
-      return "done; ingesting until the nodes finish";
+      return "done; ingesting";
+    case Stage::kRecalibrating:
+      return "recalibrating on the newest frames";
   }
   return "?";
 }
@@ -56,9 +65,11 @@ const char* ToString(Stage stage) {
 // The job's state between polls.
 class LiveJob {
  public:
-  LiveJob(const LiveJobOptions& options, const std::function<bool()>& stop)
+  LiveJob(const LiveJobOptions& options, const std::function<bool()>& stop,
+          const std::function<bool()>& recalibrate)
       : options_(options),
         stop_(stop),
+        recalibrate_(recalibrate),
         ingest_(IngestOptionsFor(options)),
         calibration_frames_(options.calibrate_after_frames) {}
 
@@ -82,6 +93,7 @@ class LiveJob {
         ingest_.WriteSummary(options_.output / "session" / "ingest_summary.yaml");
       }
       Advance(cameras, idle);
+      if (options_.serve) continue;
       if (stage_ == Stage::kDone && idle > options_.idle_exit_s && ingest_.Totals().missing == 0) {
         break;
       }
@@ -93,7 +105,8 @@ class LiveJob {
       }
     }
     Cancel();
-    if (stop_() && result_.failure.empty() && stage_ != Stage::kDone)
+    if (stop_() && result_.failure.empty() && stage_ != Stage::kDone &&
+        stage_ != Stage::kRecalibrating)
       result_.failure = fmt::format("stopped while {}", ToString(stage_));
     ingest_.Flush();
     ingest_.WriteSummary(options_.output / "session" / "ingest_summary.yaml");
@@ -136,7 +149,52 @@ class LiveJob {
         if (Ready(hulls_future_)) FinishHulls();
         break;
       case Stage::kDone:
+        if (result_.calibration && recalibrate_()) StartRecalibration(cameras);
         break;
+      case Stage::kRecalibrating:
+        if (Ready(calibration_future_)) FinishRecalibration();
+        break;
+    }
+  }
+
+  // A new calibration on the newest calibrate_after_frames frames every camera holds.
+  void StartRecalibration(const std::vector<CameraIngestStatus>& cameras) {
+    const int newest = FewestStreamed(cameras);
+    const int frames = options_.calibrate_after_frames;
+    if (newest < frames) {
+      spdlog::warn("live: recalibration asked for, but only {} frames are held", newest);
+      return;
+    }
+    const int first = newest - frames;
+    spdlog::info("live: recalibrating on frames {}..{} of every camera", first, newest - 1);
+    LaunchCalibration(first, frames);
+    stage_ = Stage::kRecalibrating;
+  }
+
+  void FinishRecalibration() {
+    stage_ = Stage::kDone;
+    CalibrateJobResult calibration;
+    try {
+      calibration = calibration_future_.get();
+    } catch (const std::exception& e) {
+      spdlog::error("live: recalibration failed: {}; keeping the calibration in use", e.what());
+      return;
+    }
+    const size_t placed = calibration.calibration.PlacedCount();
+    if (placed < result_.calibration->calibration.PlacedCount()) {
+      spdlog::error("live: recalibration placed only {} cameras; keeping the calibration in use",
+                    placed);
+      return;
+    }
+    ++result_.recalibrations;
+    result_.calibration = std::move(calibration);
+    result_.calibration_first_frame = recalibration_first_;
+    result_.calibration_frames = options_.calibrate_after_frames;
+    spdlog::info("live: recalibrated: {} cameras, reprojection rms {:.3f} px", placed,
+                 result_.calibration->calibration.rms_px);
+    if (publisher_) {
+      publisher_->Publish(result_.calibration->calibration, NewCalibrationId());
+      spdlog::info("live: new calibration published");
     }
   }
 
@@ -163,18 +221,27 @@ class LiveJob {
                                  options_.output / "session" / "ground_truth.yaml",
                                  std::filesystem::copy_options::overwrite_existing);
     }
-    CalibrateJobConfig config = options_.calibrate;
-    config.input = options_.output / "session";
-    config.output = options_.output / "calibration";
-    config.max_frames = calibration_frames_;
     spdlog::info("live: calibrating from the first {} frames of every camera (attempt {})",
                  calibration_frames_, result_.calibration_attempts);
+    LaunchCalibration(0, calibration_frames_);
+    stage_ = Stage::kCalibrating;
+  }
+
+  // Runs the calibrate job in the background on frames [first, first + frames) of the
+  // session store; a recalibration writes to OUT/recalibration-<first>.
+  void LaunchCalibration(int first, int frames) {
+    CalibrateJobConfig config = options_.calibrate;
+    config.input = options_.output / "session";
+    config.output = first == 0 ? options_.output / "calibration"
+                               : options_.output / ("recalibration-" + std::to_string(first));
+    config.first_frame = first;
+    config.max_frames = frames;
+    recalibration_first_ = first;
     progress_ = std::make_unique<Progress>("calibrate", 0, ConsoleProgressPrinter(),
                                            std::chrono::seconds(5));
     Progress* progress = progress_.get();
     calibration_future_ = std::async(
         std::launch::async, [config, progress] { return RunCalibrateJob(config, progress); });
-    stage_ = Stage::kCalibrating;
   }
 
   void FinishCalibration(double idle) {
@@ -304,6 +371,8 @@ class LiveJob {
 
   const LiveJobOptions& options_;
   std::function<bool()> stop_;
+  std::function<bool()> recalibrate_;
+  int recalibration_first_ = 0;
   IngestService ingest_;
   std::unique_ptr<dds::Participant> participant_;
   std::unique_ptr<CalibrationPublisher> publisher_;
@@ -321,12 +390,13 @@ class LiveJob {
 
 }  // namespace
 
-LiveJobResult RunLiveJob(const LiveJobOptions& options, const std::function<bool()>& stop) {
+LiveJobResult RunLiveJob(const LiveJobOptions& options, const std::function<bool()>& stop,
+                         const std::function<bool()>& recalibrate) {
   if (options.calibrate_after_frames < 10)
     throw InputError("the calibration needs at least 10 frames per camera");
   if (options.hull_frames < 0) throw InputError("the number of hull frames must not be negative");
   std::filesystem::create_directories(options.output);
-  LiveJob job(options, stop);
+  LiveJob job(options, stop, recalibrate);
   return job.Run();
 }
 

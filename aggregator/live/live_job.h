@@ -5,8 +5,10 @@
 // background (as `calibrate` does, into OUT/calibration), retrying on more frames if the
 // motion seen so far was not enough; it publishes the calibration on DDS; it builds the
 // visual hulls of frames that follow the calibration window as soon as they have arrived
-// (OUT/hulls); and it keeps ingesting until the nodes are done. Progress goes to the log
-// as it happens; the result feeds the report (live_report.h).
+// (OUT/hulls); and it keeps ingesting until the nodes are done — or, as a service, until it
+// is stopped, recalibrating on request from the newest frames and publishing the new
+// calibration. Progress goes to the log as it happens; the result feeds the report
+// (live_report.h).
 
 #include <filesystem>
 #include <functional>
@@ -33,6 +35,7 @@ struct LiveJobOptions {
   bool publish = true;                 // publish the calibration on DDS
   double idle_exit_s = 5.0;            // once hulls are built, exit after this long without samples
   double give_up_s = 60.0;             // exit after this long without samples in any case
+  bool serve = false;                  // run until stopped (idle_exit_s and give_up_s do not apply)
   CalibrateJobConfig calibrate;        // pairwise and calibration settings (input/output are set)
   HullSequenceOptions hulls;
 };
@@ -44,6 +47,9 @@ struct LiveJobResult {
   std::optional<CalibrateJobResult> calibration;
   int calibration_frames = 0;  // frames per camera the calibration used
   int calibration_attempts = 0;
+  int calibration_first_frame = 0;  // the window's first frame (later than 0 after a
+                                    // recalibration on the newest frames)
+  int recalibrations = 0;           // done on request
   bool published = false;
   std::optional<HullSequenceResult> hulls;
   int hull_first_frame = 0;
@@ -52,7 +58,12 @@ struct LiveJobResult {
 };
 
 // Runs the job until it is done, `stop()` returns true, or the streams stay silent for
-// give_up_s. Throws InputError/DdsError if the store or DDS cannot be opened.
-LiveJobResult RunLiveJob(const LiveJobOptions& options, const std::function<bool()>& stop);
+// give_up_s. Once the first calibration is done, `recalibrate()` returning true starts a new
+// calibration on the newest calibrate_after_frames frames of every camera, published when
+// it places every camera the last one did. Throws InputError/DdsError if the store or DDS
+// cannot be opened.
+LiveJobResult RunLiveJob(
+    const LiveJobOptions& options, const std::function<bool()>& stop,
+    const std::function<bool()>& recalibrate = [] { return false; });
 
 }  // namespace silnet::aggregator

@@ -90,8 +90,9 @@ void WriteSummaryYaml(const std::filesystem::path& path, const LiveJobResult& r)
   fs << "cameras" << static_cast<int>(r.cameras.size());
   fs << "frames_held" << static_cast<double>(r.ingest.stored) << "frames_missing"
      << static_cast<double>(r.ingest.missing);
-  fs << "calibration_frames" << r.calibration_frames << "calibration_attempts"
-     << r.calibration_attempts << "published" << static_cast<int>(r.published);
+  fs << "calibration_first_frame" << r.calibration_first_frame << "calibration_frames"
+     << r.calibration_frames << "calibration_attempts" << r.calibration_attempts << "recalibrations"
+     << r.recalibrations << "published" << static_cast<int>(r.published);
   if (r.calibration) {
     const NetworkCalibration& c = r.calibration->calibration;
     fs << "cameras_calibrated" << static_cast<int>(c.PlacedCount()) << "reprojection_rms_px"
@@ -139,10 +140,11 @@ std::string LiveSummary(const std::filesystem::path& out, const LiveJobResult& r
   if (r.calibration) {
     const NetworkCalibration& c = r.calibration->calibration;
     text += fmt::format(
-        "  calibration  {} of {} cameras from {} frames each (attempt {}), reprojection rms "
-        "{:.3f} px, {}\n",
-        c.PlacedCount(), c.cameras.size(), r.calibration_frames, r.calibration_attempts, c.rms_px,
-        r.published ? "published" : "not published");
+        "  calibration  {} of {} cameras from frames {}..{} (attempt {}, {} recalibrations), "
+        "reprojection rms {:.3f} px, {}\n",
+        c.PlacedCount(), c.cameras.size(), r.calibration_first_frame,
+        r.calibration_first_frame + r.calibration_frames - 1, r.calibration_attempts,
+        r.recalibrations, c.rms_px, r.published ? "published" : "not published");
     if (r.calibration->errors) {
       const CalibrationErrors& e = *r.calibration->errors;
       text += fmt::format(

@@ -49,6 +49,7 @@ std::vector<SilhouetteSequence> FromSessionLogs(const std::filesystem::path& dir
     seq.allow_warmup = options.allow_warmup;
     seq.fps = s.info.nominal_fps > 0 ? s.info.nominal_fps : 30.0;
     for (const FrameRecord& record : s.hulls) {
+      if (record.frame_index < static_cast<uint64_t>(std::max(options.first_frame, 0))) continue;
       if (options.max_frames > 0 && static_cast<int>(seq.frames.size()) >= options.max_frames)
         break;
       seq.width = record.width;

@@ -56,7 +56,7 @@ enum class SequenceSource {
 // Options of LoadSequences.
 struct SequenceLoadOptions {
   int max_frames = 0;         // 0 = all
-  int first_frame = 0;        // datasets: first frame to read
+  int first_frame = 0;        // first frame index to read
   bool allow_warmup = false;  // use frames flagged FRAME_WARMUP
   int threads = 0;            // datasets: cameras read in parallel (0 = all cores)
 };

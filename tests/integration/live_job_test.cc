@@ -3,11 +3,15 @@
 // it has enough frames, publishes the calibration, builds hulls of the frames that follow and
 // writes the report. The calibration must meet the network accuracy targets (DESIGN.md), no
 // frame may be lost, the hulls must be closed and reproject onto the silhouettes, and a
-// probe must receive the published calibration.
+// reader must receive the published calibration. As a service (--serve) it recalibrates on
+// the newest frames on SIGHUP and publishes the result.
 
 #include <gtest/gtest.h>
+#include <signal.h>
 
 #include <cstdio>
+#include <fstream>
+#include <functional>
 #include <opencv2/core/persistence.hpp>
 #include <set>
 #include <thread>
@@ -84,6 +88,69 @@ TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsAndReport) {
   EXPECT_TRUE(std::filesystem::exists(out / "calibration/report/report.html"));
   EXPECT_TRUE(std::filesystem::exists(out / "calibration/calibration.yaml"));
   EXPECT_NE(live.Stdout().find("8 of 8 cameras"), std::string::npos) << live.Stdout();
+}
+
+// Reads a whole file ("" if it cannot).
+std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Waits up to `timeout` for `done()`; returns whether it happened.
+bool Eventually(const std::function<bool()>& done, std::chrono::seconds timeout) {
+  const auto until = std::chrono::steady_clock::now() + timeout;
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > until) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  return true;
+}
+
+TEST(LiveJob, AsAServiceItRecalibratesOnTheNewestFramesWhenAsked) {
+  testing::TempDir work;
+  const std::filesystem::path dataset = work / "dataset";
+  testing::ChildProcess sim(kBin / "sim/silnet-sim",
+                            {"generate", "-o", dataset.string(), "--cameras", "8", "--frames",
+                             "800", "--seed", "1", "--masks-only"},
+                            work.path());
+  ASSERT_EQ(sim.Wait(seconds(300)), std::optional<int>(0)) << sim.Stderr();
+  const std::filesystem::path out = work / "live";
+  testing::ChildProcess live(
+      kBin / "aggregator/silnet-aggregator",
+      {"live", "-o", out.string(), "--serve", "--cameras", "8", "--calibrate-after", "400",
+       "--hull-frames", "0", "--ground-truth", (dataset / "ground_truth.yaml").string()},
+      work.path());
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  testing::ChildProcess nodes(kBin / "sim/silnet-sim",
+                              {"run-nodes", dataset.string(), "--masks", "--speed", "2", "--linger",
+                               "5", "--logs", (work / "node-logs").string()},
+                              work.path());
+  ASSERT_EQ(nodes.Wait(seconds(120)), std::optional<int>(0)) << nodes.Stderr();
+  ASSERT_TRUE(Eventually(
+      [&] { return live.Stderr().find("live: calibration published") != std::string::npos; },
+      seconds(400)))
+      << live.Stderr();
+  live.Signal(SIGHUP);
+  ASSERT_TRUE(Eventually(
+      [&] { return live.Stderr().find("live: new calibration published") != std::string::npos; },
+      seconds(400)))
+      << live.Stderr();
+  EXPECT_NE(live.Stderr().find("recalibrating on frames 400..799"), std::string::npos);
+  live.Signal(SIGTERM);
+  ASSERT_EQ(live.Wait(seconds(60)), std::optional<int>(0)) << live.Stderr();
+  cv::FileStorage summary((out / "live_summary.yaml").string(), cv::FileStorage::READ);
+  ASSERT_TRUE(summary.isOpened());
+  EXPECT_EQ(static_cast<std::string>(summary["failure"]), "");
+  EXPECT_EQ(static_cast<int>(summary["recalibrations"]), 1);
+  EXPECT_EQ(static_cast<int>(summary["calibration_first_frame"]), 400);
+  EXPECT_EQ(static_cast<int>(summary["cameras_calibrated"]), 8);
+  const cv::FileNode truth = summary["ground_truth"];
+  ASSERT_FALSE(truth.empty());
+  EXPECT_LE(static_cast<double>(truth["median_focal_rel"]), 0.01);
+  EXPECT_LE(static_cast<double>(truth["median_rotation_deg"]), 0.2);
+  EXPECT_LE(static_cast<double>(truth["max_offset_frames"]), 0.05);
+  EXPECT_TRUE(std::filesystem::exists(out / "recalibration-400/calibration.yaml"));
+  EXPECT_NE(ReadText(out / "live_summary.yaml").find("frames_missing: 0."), std::string::npos);
 }
 
 }  // namespace
