@@ -389,7 +389,7 @@ void CameraNode::State::HandleCommand(const silnet_wire_Command& command) {
 // A resend request for an earlier session (this node restarted, after a crash perhaps) is
 // served from the node's recording, which outlives the process; without one nothing is held.
 void CameraNode::State::ResendFromRecording(const silnet_wire_Command& command) {
-  std::vector<SessionFrames> sessions;
+  std::filesystem::path log;
   {
     std::lock_guard lock(recorder_mutex);
     if (!recorder) {
@@ -397,13 +397,16 @@ void CameraNode::State::ResendFromRecording(const silnet_wire_Command& command) 
                    command.command_id, command.session, options.processing.session);
       return;
     }
-    recorder->Flush();
-    try {
-      sessions = ReadSessionLog(recorder->path());
-    } catch (const InputError& e) {
-      spdlog::warn("command {}: cannot read the recording: {}", command.command_id, e.what());
-      return;
-    }
+    log = recorder->path();
+  }
+  // Read without holding the recorder: earlier sessions are complete in the file, and the
+  // reader stops cleanly at a record the current session is appending.
+  std::vector<SessionFrames> sessions;
+  try {
+    sessions = ReadSessionLog(log);
+  } catch (const InputError& e) {
+    spdlog::warn("command {}: cannot read the recording: {}", command.command_id, e.what());
+    return;
   }
   size_t queued = 0;
   for (SessionFrames& s : sessions) {

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <limits>
 #include <opencv2/core/persistence.hpp>
@@ -229,6 +230,40 @@ struct IngestService::Impl {
                  t.status.session);
   }
 
+  // A camera's status now; the latency quantiles (a selection over the reservoir) only if
+  // `with_latency`, as totals polled every loop do not need them.
+  CameraIngestStatus Snapshot(const Track& t, bool with_latency) const {
+    const auto now = Clock::now();
+    CameraIngestStatus status = t.status;
+    status.frames_held = t.held.size();
+    if (t.any) {
+      status.first_frame = t.held.min();
+      status.last_frame = t.held.max();
+      for (const FrameRange& gap : t.held.Missing(0))
+        status.missing += gap.last - gap.first + 1;
+      // Frames the node reports published beyond the newest one held.
+      if (t.status.node_published > t.held.max() + 1)
+        status.missing += t.status.node_published - t.held.max() - 1;
+    }
+    if (with_latency && !t.latencies_ms.empty()) {
+      std::vector<float> values = t.latencies_ms;
+      const auto at = [&](size_t rank) {
+        std::nth_element(values.begin(), values.begin() + static_cast<long>(rank), values.end());
+        return values[rank];
+      };
+      status.latency_median_ms = at(values.size() / 2);
+      status.latency_p99_ms = at(std::min(values.size() - 1, values.size() * 99 / 100));
+    }
+    if (t.last_status != Clock::time_point{}) {
+      status.seconds_since_status = std::chrono::duration<double>(now - t.last_status).count();
+      status.node_alive = status.seconds_since_status <= 3.0;
+    }
+    status.seconds_since_last = t.last_sample == Clock::time_point{}
+                                    ? -1.0
+                                    : std::chrono::duration<double>(now - t.last_sample).count();
+    return status;
+  }
+
   // A node started a new session (it restarted, perhaps after a crash): once, ask it for
   // what the previous session's stream did not deliver — its gaps, contours that did not
   // arrive, and everything after the newest frame held. A node that records serves them
@@ -375,34 +410,8 @@ size_t IngestService::Poll(std::chrono::milliseconds wait) {
 
 std::vector<CameraIngestStatus> IngestService::Status() const {
   std::vector<CameraIngestStatus> out;
-  const auto now = Clock::now();
-  for (const auto& [id, t] : impl_->tracks) {
-    CameraIngestStatus status = t.status;
-    status.frames_held = t.held.size();
-    if (t.any) {
-      status.first_frame = t.held.min();
-      status.last_frame = t.held.max();
-      for (const FrameRange& gap : t.held.Missing(0))
-        status.missing += gap.last - gap.first + 1;
-      // Frames the node reports published beyond the newest one held.
-      if (t.status.node_published > t.held.max() + 1)
-        status.missing += t.status.node_published - t.held.max() - 1;
-    }
-    if (!t.latencies_ms.empty()) {
-      std::vector<float> sorted = t.latencies_ms;
-      std::sort(sorted.begin(), sorted.end());
-      status.latency_median_ms = sorted[sorted.size() / 2];
-      status.latency_p99_ms = sorted[std::min(sorted.size() - 1, sorted.size() * 99 / 100)];
-    }
-    if (t.last_status != Clock::time_point{}) {
-      status.seconds_since_status = std::chrono::duration<double>(now - t.last_status).count();
-      status.node_alive = status.seconds_since_status <= 3.0;
-    }
-    status.seconds_since_last = t.last_sample == Clock::time_point{}
-                                    ? -1.0
-                                    : std::chrono::duration<double>(now - t.last_sample).count();
-    out.push_back(status);
-  }
+  for (const auto& [id, t] : impl_->tracks)
+    out.push_back(impl_->Snapshot(t, true));
   return out;
 }
 
@@ -417,7 +426,8 @@ IngestTotals IngestService::Totals() const {
     totals.dds_samples_lost = hull.samples_lost + contour.samples_lost;
     totals.dds_samples_rejected = hull.samples_rejected + contour.samples_rejected;
   }
-  for (const CameraIngestStatus& c : Status()) {
+  for (const auto& [id, t] : impl_->tracks) {
+    const CameraIngestStatus c = impl_->Snapshot(t, false);
     totals.received += c.received;
     totals.stored += c.frames_held;
     totals.duplicates += c.duplicates;
