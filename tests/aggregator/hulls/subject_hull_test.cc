@@ -66,6 +66,22 @@ Capture MakeCapture(const sim::CameraNetworkOptions& network, double speed) {
   return capture;
 }
 
+// True if the voxel holding `p`, or one of its 26 neighbours, is occupied: `p` lies in the
+// hull up to one voxel.
+bool WithinOneVoxel(const VoxelGrid& grid, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d g = (p - grid.origin) / grid.voxel_size;
+  const int i = static_cast<int>(std::floor(g.x())), j = static_cast<int>(std::floor(g.y()));
+  const int k = static_cast<int>(std::floor(g.z()));
+  for (int dz = -1; dz <= 1; ++dz) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (grid.IsOccupied(i + dx, j + dy, k + dz)) return true;
+      }
+    }
+  }
+  return false;
+}
+
 // All views' missed and spurious pixels over all views' silhouette pixels.
 struct TotalReprojection {
   double missed = 0, spurious = 0, worst_missed = 0;
@@ -123,17 +139,7 @@ TEST(SubjectHullTest, SynchronisedCaptureReprojectsOntoTheSilhouettes) {
     for (const sim::Primitive& primitive : capture.scene->PrimitivesAt(time)) {
       for (const Eigen::Vector3d& p : primitive.SampleSurface(200, rng)) {
         ++samples;
-        const Eigen::Vector3d g = (p - hull.grid.origin) / kVoxel;
-        const int i = static_cast<int>(std::floor(g.x())), j = static_cast<int>(std::floor(g.y()));
-        const int k = static_cast<int>(std::floor(g.z()));
-        bool near = false;
-        for (int dz = -1; dz <= 1 && !near; ++dz) {
-          for (int dy = -1; dy <= 1 && !near; ++dy) {
-            for (int dx = -1; dx <= 1 && !near; ++dx)
-              near = hull.grid.IsOccupied(i + dx, j + dy, k + dz);
-          }
-        }
-        if (!near) ++outside;
+        if (!WithinOneVoxel(hull.grid, p)) ++outside;
       }
     }
     EXPECT_GT(samples, 1000u);
@@ -196,17 +202,7 @@ TEST(SubjectHullTest, PolyhedralHullContainsTheSubjectAndMatchesTheVoxelHull) {
     const std::vector<Eigen::Vector3d> truth = TrueSurface(capture.scene->PrimitivesAt(time), 400);
     size_t outside = 0;
     for (const Eigen::Vector3d& p : truth) {
-      const Eigen::Vector3d g = (p - raster.origin) / kVoxel;
-      const int i = static_cast<int>(std::floor(g.x())), j = static_cast<int>(std::floor(g.y()));
-      const int k = static_cast<int>(std::floor(g.z()));
-      bool near = false;
-      for (int dz = -1; dz <= 1 && !near; ++dz) {
-        for (int dy = -1; dy <= 1 && !near; ++dy) {
-          for (int dx = -1; dx <= 1 && !near; ++dx)
-            near = raster.IsOccupied(i + dx, j + dy, k + dz);
-        }
-      }
-      if (!near) ++outside;
+      if (!WithinOneVoxel(raster, p)) ++outside;
     }
     EXPECT_GT(truth.size(), 2000u);
     EXPECT_EQ(outside, 0u) << "of " << truth.size() << " surface samples at " << time << " s";
