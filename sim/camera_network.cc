@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -76,6 +77,16 @@ std::string ToString(RigLayout layout) {
       return "arc";
   }
   return "unknown";
+}
+
+CameraModel MovedCamera(const CameraModel& camera, const CameraMove& move) {
+  CameraModel moved = camera;
+  const Eigen::Vector3d centre = camera.Center() + move.shift;
+  moved.R = Eigen::AngleAxisd(move.rotation_deg * std::numbers::pi / 180.0, move.axis.normalized())
+                .toRotationMatrix() *
+            camera.R;
+  moved.t = -moved.R * centre;
+  return moved;
 }
 
 std::string CameraId(int index) {

@@ -42,6 +42,20 @@ struct CameraNetworkOptions {
 // (fewer than 2 cameras, non-positive size, fov outside (10, 170) degrees, ...).
 std::vector<CameraModel> MakeCameraNetwork(const CameraNetworkOptions& options);
 
+// A camera knocked out of place during a capture: from frame `frame` on, it is turned by
+// `rotation_deg` about `axis` (camera coordinates) and its centre shifted by `shift` (world
+// coordinates, metres). Its intrinsics and clock stay as they were.
+struct CameraMove {
+  int camera = 0;
+  int frame = 0;
+  double rotation_deg = 0.0;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitY();
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+};
+
+// `camera` after `move`.
+CameraModel MovedCamera(const CameraModel& camera, const CameraMove& move);
+
 // Camera id of index i ("cam00").
 std::string CameraId(int index);
 

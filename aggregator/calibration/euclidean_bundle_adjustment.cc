@@ -144,7 +144,10 @@ struct SolveOutcome {
 
 SolveOutcome Solve(MetricScene* scene, const IntrinsicsModel& model, const BundleOptions& options) {
   const size_t n = scene->cameras.size();
-  const auto [anchor, scale] = AnchorGauge(scene);
+  bool any_held = false;
+  for (size_t c = 0; c < n; ++c)
+    any_held = any_held || (scene->present[c] && scene->Held(c));
+  const auto [anchor, scale] = any_held ? std::pair{n, n} : AnchorGauge(scene);
   std::vector<IntrinsicsBlock> intrinsics(n);
   std::vector<PoseBlock> poses(n);
   for (size_t c = 0; c < n; ++c) {
@@ -188,7 +191,8 @@ SolveOutcome Solve(MetricScene* scene, const IntrinsicsModel& model, const Bundl
   const std::vector<int> fixed = FixedIntrinsics(model);
   for (size_t c = 0; c < n; ++c) {
     if (!scene->present[c] || !problem.HasParameterBlock(intrinsics[c].data())) continue;
-    if (model.fixed) {
+    if (scene->Held(c)) problem.SetParameterBlockConstant(poses[c].data());
+    if (model.fixed || scene->Held(c)) {
       problem.SetParameterBlockConstant(intrinsics[c].data());
     } else {
       problem.SetManifold(intrinsics[c].data(), new ceres::SubsetManifold(kIntrinsics, fixed));

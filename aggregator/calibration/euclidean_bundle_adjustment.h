@@ -36,6 +36,12 @@ struct MetricScene {
   std::vector<TwoViewTrack> tracks;
   std::vector<Eigen::Vector3d> points;  // one per track
   std::vector<bool> inlier;             // one per track
+  // Cameras whose pose and intrinsics the adjustment keeps as they are (empty = none). When
+  // any present camera is held, the held cameras fix the world frame and scale; otherwise
+  // the adjustment anchors the gauge itself.
+  std::vector<bool> held;
+
+  bool Held(size_t camera) const { return camera < held.size() && held[camera]; }
 
   // Triangulates every track (undistorted pixels, linear) with the current cameras; tracks
   // whose two rays are within `min_angle_deg` of parallel or opposite are marked outliers.

@@ -2,6 +2,7 @@
 
 #include "node/pipeline/frame_processor.h"
 #include "shared/silhouette/hull_codec.h"
+#include "shared/util/check.h"
 #include "shared/util/parallel_for.h"
 #include "silnet.h"
 #include "sim/render/camera_renderer.h"
@@ -14,9 +15,16 @@ using FrameRenderer = std::function<void(const sim::CameraRenderer& renderer, si
                                          std::mt19937_64* rng, cv::Mat* image)>;
 
 SimCapture Capture(const sim::CameraNetworkOptions& network, const sim::SceneOptions& scene_options,
-                   int frames, node::SegmentationMethod method, const FrameRenderer& render) {
+                   int frames, node::SegmentationMethod method, const FrameRenderer& render,
+                   const sim::CameraMove* move = nullptr) {
   SimCapture capture;
   capture.cameras = sim::MakeCameraNetwork(network);
+  capture.cameras_at_end = capture.cameras;
+  if (move != nullptr) {
+    SILNET_CHECK(move->camera >= 0 && move->camera < static_cast<int>(capture.cameras.size()));
+    capture.cameras_at_end[static_cast<size_t>(move->camera)] =
+        sim::MovedCamera(capture.cameras[static_cast<size_t>(move->camera)], *move);
+  }
   sim::SceneOptions scene = scene_options;
   double begin = 1e9, end = -1e9;
   for (const CameraModel& c : capture.cameras) {
@@ -31,6 +39,10 @@ SimCapture Capture(const sim::CameraNetworkOptions& network, const sim::SceneOpt
     const CameraModel& camera = capture.cameras[c];
     const sim::CameraRenderer renderer(camera, *capture.scene, sim::RenderSettings{},
                                        static_cast<int>(c));
+    const sim::CameraRenderer renderer_at_end(capture.cameras_at_end[c], *capture.scene,
+                                              sim::RenderSettings{}, static_cast<int>(c));
+    const int moves_at =
+        move != nullptr && move->camera == static_cast<int>(c) ? move->frame : frames;
     node::FrameProcessorOptions options;
     options.camera_id = camera.id;
     options.contour_every = 0;
@@ -44,7 +56,7 @@ SimCapture Capture(const sim::CameraNetworkOptions& network, const sim::SceneOpt
     seq.fps = camera.fps;
     for (int k = 0; k < frames; ++k) {
       node::CapturedFrame frame;
-      render(renderer, c, k, &rng, &frame.image);
+      render(k < moves_at ? renderer : renderer_at_end, c, k, &rng, &frame.image);
       frame.frame_index = static_cast<uint64_t>(k);
       const node::ProcessedFrame out =
           frame.image.empty() ? processor.Flagged(frame.frame_index, 0, silnet_wire_FRAME_DROPPED)
@@ -75,6 +87,31 @@ SimCapture MakeSimCapture(const sim::CameraNetworkOptions& network,
                    renderer.Render(renderer.camera().ExposureTime(k), 0, image, nullptr);
                    if (damage) damage(c, k, image, rng);
                  });
+}
+
+SimCapture MakeSimCaptureWithMove(const sim::CameraNetworkOptions& network,
+                                  const sim::SceneOptions& scene_options, int frames,
+                                  const sim::CameraMove& move) {
+  return Capture(
+      network, scene_options, frames, node::SegmentationMethod::kMaskInput,
+      [](const sim::CameraRenderer& renderer, size_t, int k, std::mt19937_64*, cv::Mat* image) {
+        renderer.Render(renderer.camera().ExposureTime(k), 0, image, nullptr);
+      },
+      &move);
+}
+
+std::vector<SilhouetteSequence> SliceSequences(const std::vector<SilhouetteSequence>& sequences,
+                                               uint64_t first, uint64_t count) {
+  std::vector<SilhouetteSequence> out;
+  for (const SilhouetteSequence& s : sequences) {
+    SilhouetteSequence slice = s;
+    std::erase_if(slice.frames, [&](const SilhouetteFrame& f) {
+      return f.index < first || f.index >= first + count;
+    });
+    slice.Index();
+    out.push_back(std::move(slice));
+  }
+  return out;
 }
 
 SimCapture MakeSegmentedSimCapture(const sim::CameraNetworkOptions& network,

@@ -18,7 +18,8 @@ namespace silnet::aggregator::testing {
 
 // Ground truth and sequences of one simulated capture.
 struct SimCapture {
-  std::vector<CameraModel> cameras;
+  std::vector<CameraModel> cameras;         // as at frame 0
+  std::vector<CameraModel> cameras_at_end;  // after any camera moves
   std::unique_ptr<sim::Scene> scene;
   std::vector<SilhouetteSequence> sequences;
 };
@@ -29,6 +30,16 @@ using MaskDamage = std::function<void(size_t, int, cv::Mat*, std::mt19937_64*)>;
 // Renders `frames` exact masks of every camera and encodes them with the node's pipeline.
 SimCapture MakeSimCapture(const sim::CameraNetworkOptions& network, const sim::SceneOptions& scene,
                           int frames, const MaskDamage& damage = {});
+
+// Exact masks as MakeSimCapture renders them, with camera `move.camera` moved from frame
+// `move.frame` on.
+SimCapture MakeSimCaptureWithMove(const sim::CameraNetworkOptions& network,
+                                  const sim::SceneOptions& scene, int frames,
+                                  const sim::CameraMove& move);
+
+// The frames [first, first + count) of each sequence.
+std::vector<SilhouetteSequence> SliceSequences(const std::vector<SilhouetteSequence>& sequences,
+                                               uint64_t first, uint64_t count);
 
 // Renders `frames` colour frames of every camera (default sensor noise, shadows, lighting
 // changes) and runs the node's whole pipeline on them: median-model segmentation, clean-up,
