@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <regex>
 
 #include "shared/util/check.h"
 
@@ -81,12 +82,30 @@ std::string ToString(RigLayout layout) {
 
 CameraModel MovedCamera(const CameraModel& camera, const CameraMove& move) {
   CameraModel moved = camera;
-  const Eigen::Vector3d centre = camera.Center() + move.shift;
+  const Eigen::Vector3d centre = camera.Center() + camera.R.transpose() * move.shift;
   moved.R = Eigen::AngleAxisd(move.rotation_deg * std::numbers::pi / 180.0, move.axis.normalized())
                 .toRotationMatrix() *
             camera.R;
   moved.t = -moved.R * centre;
   return moved;
+}
+
+CameraMove ParseCameraMove(const std::string& text, int cameras) {
+  static const std::regex pattern(R"(cam(\d{2,3})@(\d+):([-+]?[0-9.]+)(?::([-+]?[0-9.]+))?)");
+  std::smatch match;
+  if (!std::regex_match(text, match, pattern)) {
+    throw InputError("a camera move looks like cam03@560:2.5 or cam03@560:2.5:0.05, not '" + text +
+                     "'");
+  }
+  CameraMove move;
+  move.camera = std::stoi(match[1]);
+  if (move.camera >= cameras)
+    throw InputError(fmt::format("camera move '{}': there are only {} cameras", text, cameras));
+  move.frame = std::stoi(match[2]);
+  move.rotation_deg = std::stod(match[3]);
+  move.axis = Eigen::Vector3d::UnitY();
+  if (match[4].matched) move.shift = Eigen::Vector3d(std::stod(match[4]), 0.0, 0.0);
+  return move;
 }
 
 std::string CameraId(int index) {

@@ -43,8 +43,8 @@ struct CameraNetworkOptions {
 std::vector<CameraModel> MakeCameraNetwork(const CameraNetworkOptions& options);
 
 // A camera knocked out of place during a capture: from frame `frame` on, it is turned by
-// `rotation_deg` about `axis` (camera coordinates) and its centre shifted by `shift` (world
-// coordinates, metres). Its intrinsics and clock stay as they were.
+// `rotation_deg` about `axis` and its centre shifted by `shift` (metres), both in the
+// camera's coordinates before the move. Its intrinsics and clock stay as they were.
 struct CameraMove {
   int camera = 0;
   int frame = 0;
@@ -55,6 +55,11 @@ struct CameraMove {
 
 // `camera` after `move`.
 CameraModel MovedCamera(const CameraModel& camera, const CameraMove& move);
+
+// Parses "cam03@560:2.5[:0.05]": camera cam03 turns 2.5 degrees about its vertical axis
+// (a pan) at frame 560 and, optionally, shifts 0.05 m sideways. Throws InputError for
+// another form or a camera outside 0..cameras-1.
+CameraMove ParseCameraMove(const std::string& text, int cameras);
 
 // Camera id of index i ("cam00").
 std::string CameraId(int index);

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 
+#include "shared/io/calibration_yaml.h"
 #include "shared/io/dataset_layout.h"
 #include "shared/io/png_writer.h"
 #include "shared/util/check.h"
@@ -21,6 +22,13 @@ std::string SimulationOptions::Validate() const {
     return "walk radius must be non-negative and keep 0.5 m away from the cameras";
   }
   if (render.noise_sigma < 0.0 || render.noise_sigma > 40.0) return "noise must be 0..40 DN";
+  std::vector<bool> moved(static_cast<size_t>(std::max(network.cameras, 0)), false);
+  for (const CameraMove& m : moves) {
+    if (m.camera < 0 || m.camera >= network.cameras) return "a camera move names no camera";
+    if (m.frame <= 0 || m.frame >= frames) return "a camera move must happen within the capture";
+    if (moved[static_cast<size_t>(m.camera)]) return "at most one move per camera";
+    moved[static_cast<size_t>(m.camera)] = true;
+  }
   return {};
 }
 
@@ -67,6 +75,20 @@ SimulationSummary GenerateDataset(const SimulationOptions& options,
     renderers[i] = std::make_unique<CameraRenderer>(summary.cameras[i], scene, options.render,
                                                     static_cast<int>(i), noise);
   });
+  // A moved camera renders through a second renderer from its move on.
+  std::vector<std::unique_ptr<CameraRenderer>> moved_renderers(camera_count);
+  std::vector<int> moves_at(camera_count, options.frames);
+  std::vector<CameraMoveRecord> move_records;
+  for (const CameraMove& m : options.moves) {
+    const size_t c = static_cast<size_t>(m.camera);
+    const CameraModel moved = MovedCamera(summary.cameras[c], m);
+    moved_renderers[c] =
+        std::make_unique<CameraRenderer>(moved, scene, options.render, m.camera, noise);
+    moves_at[c] = m.frame;
+    move_records.push_back({m.frame, moved});
+    spdlog::info("{} moves at frame {}: turned {:.2f} deg, shifted {:.3f} m", moved.id, m.frame,
+                 m.rotation_deg, m.shift.norm());
+  }
 
   std::atomic<size_t> bytes{0}, images{0};
   const size_t tasks = camera_count * static_cast<size_t>(options.frames);
@@ -75,7 +97,8 @@ SimulationSummary GenerateDataset(const SimulationOptions& options,
     if (progress != nullptr && progress->cancelled()) throw std::runtime_error("cancelled");
     const size_t camera = task % camera_count;
     const int frame = static_cast<int>(task / camera_count);
-    const CameraRenderer& renderer = *renderers[camera];
+    const CameraRenderer& renderer =
+        frame < moves_at[camera] ? *renderers[camera] : *moved_renderers[camera];
     const CameraModel& c = renderer.camera();
     cv::Mat mask, colour;
     renderer.Render(c.ExposureTime(frame),
@@ -99,7 +122,7 @@ SimulationSummary GenerateDataset(const SimulationOptions& options,
   truth.seed = options.scene.seed;
   truth.reference_fps = options.network.fps;
   truth.frames = options.frames;
-  WriteGroundTruth(layout.GroundTruthPath(), truth, summary.cameras, scene);
+  WriteGroundTruth(layout.GroundTruthPath(), truth, summary.cameras, scene, move_records);
   if (progress != nullptr) progress->Finish();
   summary.images_written = images.load();
   summary.bytes_written = bytes.load();

@@ -19,7 +19,8 @@ struct SimulationOptions {
   CameraNetworkOptions network;
   SceneOptions scene;  // time_begin/time_end are set to cover the exposures
   RenderSettings render;
-  int frames = 600;  // frames per camera
+  int frames = 600;               // frames per camera
+  std::vector<CameraMove> moves;  // cameras knocked out of place (at most one move each)
   bool write_masks = true;
   bool write_frames = true;
   int threads = 0;         // 0 = all cores
@@ -31,7 +32,7 @@ struct SimulationOptions {
 
 // What GenerateDataset produced.
 struct SimulationSummary {
-  std::vector<CameraModel> cameras;
+  std::vector<CameraModel> cameras;  // as at frame 0
   int frames = 0;
   std::size_t images_written = 0;
   std::size_t bytes_written = 0;

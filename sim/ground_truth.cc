@@ -80,7 +80,8 @@ std::pair<int, int> ReferenceFrameRange(const std::vector<CameraModel>& cameras,
 }
 
 void WriteGroundTruth(const std::filesystem::path& path, const GroundTruthScene& summary,
-                      const std::vector<CameraModel>& cameras, const Scene& scene) {
+                      const std::vector<CameraModel>& cameras, const Scene& scene,
+                      const std::vector<CameraMoveRecord>& moves) {
   cv::FileStorage fs(path.string(), cv::FileStorage::WRITE);
   if (!fs.isOpened()) throw InputError(path.string() + ": cannot write");
   fs << "silnet_ground_truth_version" << 1;
@@ -91,6 +92,7 @@ void WriteGroundTruth(const std::filesystem::path& path, const GroundTruthScene&
      << "frames" << summary.frames;
   fs << "}";
   WriteCameras(fs, cameras);
+  if (!moves.empty()) WriteCameraMoves(fs, moves);
   fs << "pairs"
      << "[";
   for (size_t i = 0; i < cameras.size(); ++i) {

@@ -2,7 +2,9 @@
 // ground_truth.yaml of a simulated dataset (OpenCV FileStorage):
 //   silnet_ground_truth_version  1
 //   scene: subject kind, subject count, layout, seed, reference_fps, frames
-//   cameras: the shared camera block (shared/io/calibration_yaml.h), with fps and time_offset
+//   cameras: the shared camera block (shared/io/calibration_yaml.h), with fps and time_offset,
+//          as at frame 0
+//   camera_moves: cameras that moved during the capture (shared/io/calibration_yaml.h)
 //   pairs: for every i < j: i, j, F (x_j^T F x_i = 0, undistorted pixels, unit norm),
 //          offset and rate (frame k of i is simultaneous with offset + rate * k of j)
 //   part_names: "<subject>/<part>" for every (subject, part) pair
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "shared/geometry/camera_model.h"
+#include "shared/io/calibration_yaml.h"
 #include "sim/scene/scene.h"
 
 namespace silnet::sim {
@@ -33,8 +36,10 @@ struct GroundTruthScene {
 
 // Writes ground_truth.yaml for cameras that saw `scene`; subject geometry is stored for
 // every reference frame that covers the cameras' exposure times.
+// Pairs describe the cameras as at frame 0; `moves` (if any) are written as camera_moves.
 void WriteGroundTruth(const std::filesystem::path& path, const GroundTruthScene& summary,
-                      const std::vector<CameraModel>& cameras, const Scene& scene);
+                      const std::vector<CameraModel>& cameras, const Scene& scene,
+                      const std::vector<CameraMoveRecord>& moves = {});
 
 // The reference frame range [first, first + count) covering all exposures of `frames`
 // frames of every camera, at `reference_fps`.

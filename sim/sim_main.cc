@@ -128,6 +128,10 @@ int main(int argc, char** argv) {
   generate->add_flag("--no-shadows", no_shadows, "do not cast shadows");
   generate->add_flag("--steady-light", steady_light, "no lighting changes");
   generate->add_flag("--force", options.overwrite, "write into a non-empty folder");
+  std::vector<std::string> moves;
+  generate->add_option("--move-camera", moves,
+                       "knock a camera out of place: cam03@560:2.5[:0.05] pans cam03 by 2.5 deg "
+                       "at frame 560 (and shifts it 0.05 m sideways); repeatable");
 
   silnet::sim::NodeLaunchOptions nodes;
   std::string node_binary;
@@ -156,6 +160,8 @@ int main(int argc, char** argv) {
     options.write_masks = !frames_only;
     options.render.shadows = !no_shadows;
     options.scene.lighting_changes = !steady_light;
+    for (const std::string& m : moves)
+      options.moves.push_back(silnet::sim::ParseCameraMove(m, options.network.cameras));
     if (generate->parsed()) return RunGenerate(options, output, size, layout, subject, seed);
     if (run_nodes->parsed()) {
       nodes.node_binary =

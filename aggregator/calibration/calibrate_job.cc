@@ -44,14 +44,6 @@ std::vector<CameraModel> CameraTemplates(const std::vector<SilhouetteSequence>& 
   return cameras;
 }
 
-std::vector<CameraModel> PlacedCameras(const NetworkCalibration& calibration) {
-  std::vector<CameraModel> placed;
-  for (size_t c = 0; c < calibration.cameras.size(); ++c) {
-    if (calibration.placement[c].placed) placed.push_back(calibration.cameras[c]);
-  }
-  return placed;
-}
-
 }  // namespace
 
 CalibrateJobResult RunCalibrateJob(const CalibrateJobConfig& config, Progress* progress) {
@@ -95,13 +87,13 @@ CalibrateJobResult RunCalibrateJob(const CalibrateJobConfig& config, Progress* p
   const std::filesystem::path truth = config.input / "ground_truth.yaml";
   if (config.compare_ground_truth && std::filesystem::exists(truth) &&
       calibration.PlacedCount() >= 3) {
-    std::vector<bool> placed;
-    for (const CameraPlacement& p : calibration.placement)
-      placed.push_back(p.placed);
-    result.errors = CompareWithGroundTruth(calibration.cameras, placed, LoadCalibration(truth));
+    // A simulated capture may have cameras that moved: compare with them as they were when
+    // the frames began.
+    result.errors = CompareWithGroundTruth(calibration.cameras, calibration.PlacedMask(),
+                                           LoadCamerasAtFrame(truth, config.first_frame));
   }
   if (calibration.PlacedCount() > 0) {
-    SaveCalibration(config.output / "calibration.yaml", PlacedCameras(calibration));
+    SaveCalibration(config.output / "calibration.yaml", calibration.PlacedCameras());
     WriteColmapText(config.output / "colmap", calibration);
   }
   WriteCalibrationSummary(config.output / "calibration_summary.yaml", result);

@@ -83,6 +83,21 @@ struct NetworkCalibration {
       n += p.placed ? 1 : 0;
     return n;
   }
+  // Which cameras were placed, parallel to `cameras`.
+  std::vector<bool> PlacedMask() const {
+    std::vector<bool> placed;
+    for (const CameraPlacement& p : placement)
+      placed.push_back(p.placed);
+    return placed;
+  }
+  // The placed cameras, in input order.
+  std::vector<CameraModel> PlacedCameras() const {
+    std::vector<CameraModel> out;
+    for (size_t c = 0; c < cameras.size(); ++c) {
+      if (placement[c].placed) out.push_back(cameras[c]);
+    }
+    return out;
+  }
 };
 
 }  // namespace silnet::aggregator

@@ -18,6 +18,7 @@ namespace {
 struct LiveArgs {
   std::string out, ground_truth;
   int cameras = 0, calibrate_after = 400, hull_frames = 30, hull_gap = 10, attempts = 3;
+  int motion_window = 60, reestimate_frames = 240;
   double idle_exit_s = 5.0, give_up_s = 60.0, rig_radius = 1.0;
   bool no_publish = false, polyhedral = false, overlays = false, serve = false;
   PairwiseArgs pairwise;
@@ -41,6 +42,9 @@ int RunLive(const LiveArgs& args) {
   options.calibrate.calibration.rig_radius = args.rig_radius;
   options.calibrate.calibration.bundle.threads =
       static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  options.motion.window_frames = args.motion_window;
+  options.motion.reestimate_frames = args.reestimate_frames;
+  options.motion.moved.pair = options.calibrate.pairwise.pair;
   options.hulls.polyhedral = args.polyhedral;
   options.hulls.overlays = args.overlays;
   if (!args.ground_truth.empty() && !std::filesystem::is_regular_file(args.ground_truth))
@@ -80,6 +84,12 @@ Command AddLiveCommand(CLI::App& app) {
                   "a simulation's ground_truth.yaml to compare the calibration with");
   cmd->add_option("--rig-radius", args->rig_radius,
                   "world scale: mean distance of the cameras from their centroid")
+      ->capture_default_str();
+  cmd->add_option("--motion-window", args->motion_window,
+                  "check for moved cameras every this many frames once calibrated (0: never)")
+      ->capture_default_str();
+  cmd->add_option("--reestimate-frames", args->reestimate_frames,
+                  "frames after a move a moved camera is re-estimated from")
       ->capture_default_str();
   cmd->add_flag("--no-publish", args->no_publish, "do not publish the calibration on DDS");
   cmd->add_flag("--serve", args->serve,

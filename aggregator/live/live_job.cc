@@ -71,6 +71,9 @@ class LiveJob {
         stop_(stop),
         recalibrate_(recalibrate),
         ingest_(IngestOptionsFor(options)),
+        watch_(options.motion, options.output / "session", options.output,
+               options.ground_truth.empty() ? std::filesystem::path()
+                                            : options.output / "session" / "ground_truth.yaml"),
         calibration_frames_(options.calibrate_after_frames) {}
 
   LiveJobResult Run() {
@@ -93,6 +96,7 @@ class LiveJob {
         ingest_.WriteSummary(options_.output / "session" / "ingest_summary.yaml");
       }
       Advance(cameras, idle);
+      WatchForMovedCameras(cameras);
       if (options_.serve) continue;
       if (stage_ == Stage::kDone && idle > options_.idle_exit_s && ingest_.Totals().missing == 0) {
         break;
@@ -105,6 +109,9 @@ class LiveJob {
       }
     }
     Cancel();
+    watch_.Stop();
+    result_.camera_moves = watch_.events();
+    result_.motion_checks = watch_.checks();
     if (stop_() && result_.failure.empty() && stage_ != Stage::kDone &&
         stage_ != Stage::kRecalibrating)
       result_.failure = fmt::format("stopped while {}", ToString(stage_));
@@ -157,6 +164,21 @@ class LiveJob {
     }
   }
 
+  // Once a calibration is in use (and none is being computed), the watch checks the newest
+  // frames; a re-estimated camera replaces its model in the calibration, which is published.
+  void WatchForMovedCameras(const std::vector<CameraIngestStatus>& cameras) {
+    if (!result_.calibration || stage_ == Stage::kCalibrating || stage_ == Stage::kRecalibrating)
+      return;
+    const std::optional<CameraUpdate> update = watch_.Poll(FewestStreamed(cameras));
+    if (!update) return;
+    NetworkCalibration& calibration = result_.calibration->calibration;
+    calibration.cameras[update->camera] = update->model;
+    if (publisher_) {
+      publisher_->Publish(calibration, NewCalibrationId());
+      spdlog::info("live: calibration with {} re-estimated published", update->model.id);
+    }
+  }
+
   // A new calibration on the newest calibrate_after_frames frames every camera holds.
   void StartRecalibration(const std::vector<CameraIngestStatus>& cameras) {
     const int newest = FewestStreamed(cameras);
@@ -167,6 +189,7 @@ class LiveJob {
     }
     const int first = newest - frames;
     spdlog::info("live: recalibrating on frames {}..{} of every camera", first, newest - 1);
+    watch_.Stop();
     LaunchCalibration(first, frames);
     stage_ = Stage::kRecalibrating;
   }
@@ -174,16 +197,19 @@ class LiveJob {
   void FinishRecalibration() {
     stage_ = Stage::kDone;
     CalibrateJobResult calibration;
+    const auto keep = [&](const std::string& why) {
+      spdlog::error("live: {}; keeping the calibration in use", why);
+      WatchCalibration(result_.calibration_first_frame, result_.calibration_frames);
+    };
     try {
       calibration = calibration_future_.get();
     } catch (const std::exception& e) {
-      spdlog::error("live: recalibration failed: {}; keeping the calibration in use", e.what());
+      keep(fmt::format("recalibration failed: {}", e.what()));
       return;
     }
     const size_t placed = calibration.calibration.PlacedCount();
     if (placed < result_.calibration->calibration.PlacedCount()) {
-      spdlog::error("live: recalibration placed only {} cameras; keeping the calibration in use",
-                    placed);
+      keep(fmt::format("recalibration placed only {} cameras", placed));
       return;
     }
     ++result_.recalibrations;
@@ -192,10 +218,17 @@ class LiveJob {
     result_.calibration_frames = options_.calibrate_after_frames;
     spdlog::info("live: recalibrated: {} cameras, reprojection rms {:.3f} px", placed,
                  result_.calibration->calibration.rms_px);
+    WatchCalibration(recalibration_first_, options_.calibrate_after_frames);
     if (publisher_) {
       publisher_->Publish(result_.calibration->calibration, NewCalibrationId());
       spdlog::info("live: new calibration published");
     }
+  }
+
+  // Watches the calibration in use, calibrated from frames [first, first + frames).
+  void WatchCalibration(int first, int frames) {
+    const NetworkCalibration& c = result_.calibration->calibration;
+    watch_.Start(c.cameras, c.PlacedMask(), first, frames);
   }
 
   template <class T>
@@ -280,6 +313,7 @@ class LiveJob {
       result_.published = true;
       spdlog::info("live: calibration published on {}", options_.domain.Describe());
     }
+    WatchCalibration(0, calibration_frames_);
     hull_cameras_ = LoadCalibration(options_.output / "calibration" / "calibration.yaml");
     result_.hull_first_frame = calibration_frames_ + options_.hull_gap_frames;
     hull_count_ = options_.hull_frames;
@@ -374,6 +408,7 @@ class LiveJob {
   std::function<bool()> recalibrate_;
   int recalibration_first_ = 0;
   IngestService ingest_;
+  CameraMotionWatch watch_;
   std::unique_ptr<dds::Participant> participant_;
   std::unique_ptr<CalibrationPublisher> publisher_;
   Stage stage_ = Stage::kCollecting;

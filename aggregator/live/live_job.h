@@ -7,8 +7,9 @@
 // visual hulls of frames that follow the calibration window as soon as they have arrived
 // (OUT/hulls); and it keeps ingesting until the nodes are done — or, as a service, until it
 // is stopped, recalibrating on request from the newest frames and publishing the new
-// calibration. Progress goes to the log as it happens; the result feeds the report
-// (live_report.h).
+// calibration. While it runs it watches for cameras that moved after the calibration and
+// re-estimates them (camera_motion_watch.h), publishing the corrected calibration. Progress goes to
+// the log as it happens; the result feeds the report (live_report.h).
 
 #include <filesystem>
 #include <functional>
@@ -19,6 +20,7 @@
 #include "aggregator/calibration/calibrate_job.h"
 #include "aggregator/hulls/hull_sequence_job.h"
 #include "aggregator/ingest/ingest_service.h"
+#include "aggregator/live/camera_motion_watch.h"
 
 namespace silnet::aggregator {
 
@@ -38,6 +40,7 @@ struct LiveJobOptions {
   bool serve = false;                  // run until stopped (idle_exit_s and give_up_s do not apply)
   CalibrateJobConfig calibrate;        // pairwise and calibration settings (input/output are set)
   HullSequenceOptions hulls;
+  CameraMotionWatchOptions motion;  // window_frames 0 turns the watch off
 };
 
 // What happened; `failure` says why a stage did not complete (empty when all did).
@@ -47,9 +50,11 @@ struct LiveJobResult {
   std::optional<CalibrateJobResult> calibration;
   int calibration_frames = 0;  // frames per camera the calibration used
   int calibration_attempts = 0;
-  int calibration_first_frame = 0;  // the window's first frame (later than 0 after a
-                                    // recalibration on the newest frames)
-  int recalibrations = 0;           // done on request
+  int calibration_first_frame = 0;            // the window's first frame (later than 0 after a
+                                              // recalibration on the newest frames)
+  int recalibrations = 0;                     // done on request
+  std::vector<CameraMoveEvent> camera_moves;  // cameras seen to move, and their re-estimates
+  int motion_checks = 0;
   bool published = false;
   std::optional<HullSequenceResult> hulls;
   int hull_first_frame = 0;

@@ -57,6 +57,34 @@ std::string CalibrationSection(const LiveJobResult& r) {
   return html;
 }
 
+std::string TruthCell(double value, const char* format) {
+  return value < 0.0 ? "-" : fmt::format(fmt::runtime(format), value);
+}
+
+std::string MovedCamerasSection(const LiveJobResult& r) {
+  if (r.camera_moves.empty()) {
+    return fmt::format(
+        "<p>{} checks of every camera pair's epipolar residuals against the calibration in use; "
+        "no camera moved (status in <a href=\"camera_motion.yaml\">camera_motion.yaml</a>).</p>\n",
+        r.motion_checks);
+  }
+  HtmlTable table({"camera", "detected at frame", "residual px (before)", "pairs jumped",
+                   "re-estimated", "from frame", "rms px", "rotation vs truth", "note"});
+  for (const CameraMoveEvent& e : r.camera_moves) {
+    table.AddRow(
+        {e.camera_id, std::to_string(e.detected_frame),
+         fmt::format("{:.2f} ({:.2f})", e.residual_px, e.baseline_px),
+         fmt::format("{} of {}", e.pairs_jumped, e.pairs_measured), e.reestimated ? "yes" : "no",
+         e.reestimated ? std::to_string(e.reestimate_first_frame) : "-",
+         e.reestimated ? fmt::format("{:.3f}", e.rms_px) : "-",
+         TruthCell(e.truth_rotation_deg, "{:.3f} deg"), e.reason},
+        e.reestimated ? "warn" : "bad");
+  }
+  return fmt::format("<p>{} checks; cameras that moved after the calibration:</p>\n",
+                     r.motion_checks) +
+         table.ToHtml();
+}
+
 std::string HullsSection(const LiveJobResult& r) {
   if (!r.hulls) return "<p class=\"muted\">no hulls</p>\n";
   const HullSequenceResult& h = *r.hulls;
@@ -107,6 +135,16 @@ void WriteSummaryYaml(const std::filesystem::path& path, const LiveJobResult& r)
          << "max_offset_frames" << e.max_offset_frames << "}";
     }
   }
+  fs << "motion_checks" << r.motion_checks << "camera_moves"
+     << "[";
+  for (const CameraMoveEvent& e : r.camera_moves) {
+    fs << "{"
+       << "id" << e.camera_id << "detected_frame" << e.detected_frame << "reestimated"
+       << static_cast<int>(e.reestimated) << "reestimate_first_frame" << e.reestimate_first_frame
+       << "rms_px" << e.rms_px << "truth_rotation_deg" << e.truth_rotation_deg << "truth_center_rel"
+       << e.truth_center_rel << "reason" << e.reason << "}";
+  }
+  fs << "]";
   if (r.hulls) {
     fs << "hulls"
        << "{"
@@ -125,6 +163,7 @@ void WriteLiveReport(const std::filesystem::path& out, const LiveJobResult& resu
     html += "<ul class=\"bad\"><li>" + EscapeHtml(result.failure) + "</li></ul>\n";
   html += Section("Streams", IngestSection(result));
   html += Section("Calibration and synchronisation", CalibrationSection(result));
+  html += Section("Moved cameras", MovedCamerasSection(result));
   html += Section("Visual hulls", HullsSection(result));
   WriteHtmlPage(out / "report.html", "silnet live run", html);
   WriteSummaryYaml(out / "live_summary.yaml", result);
@@ -153,6 +192,17 @@ std::string LiveSummary(const std::filesystem::path& out, const LiveJobResult& r
           100 * e.median_focal_rel, e.median_rotation_deg, e.max_rotation_deg,
           100 * e.median_center_rel, e.median_offset_frames, e.max_offset_frames);
     }
+  }
+  for (const CameraMoveEvent& e : r.camera_moves) {
+    text += fmt::format(
+        "  MOVED        {} (seen by frame {}): {}\n", e.camera_id, e.detected_frame,
+        e.reestimated
+            ? fmt::format("re-estimated from frame {}, {:.3f} px rms{}", e.reestimate_first_frame,
+                          e.rms_px,
+                          e.truth_rotation_deg < 0.0
+                              ? ""
+                              : fmt::format(", rotation vs truth {:.3f} deg", e.truth_rotation_deg))
+            : "not re-estimated: " + e.reason);
   }
   if (r.hulls) {
     text += fmt::format(

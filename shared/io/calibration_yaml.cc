@@ -148,4 +148,46 @@ std::vector<CameraModel> LoadCalibration(const std::filesystem::path& path) {
   }
 }
 
+void WriteCameraMoves(cv::FileStorage& storage, const std::vector<CameraMoveRecord>& moves) {
+  storage << "camera_moves"
+          << "[";
+  for (const CameraMoveRecord& m : moves) {
+    storage << "{"
+            << "frame" << m.frame;
+    WriteCameras(storage, {m.camera});
+    storage << "}";
+  }
+  storage << "]";
+}
+
+std::vector<CameraModel> LoadCamerasAtFrame(const std::filesystem::path& path, int frame) {
+  cv::FileStorage storage = OpenYamlForReading(path);
+  try {
+    std::vector<CameraModel> cameras = ReadCameras(storage["cameras"], path.string());
+    const cv::FileNode moves = storage["camera_moves"];
+    if (moves.empty()) return cameras;
+    if (!moves.isSeq()) throw InputError(path.string() + ": camera_moves is not a sequence");
+    std::vector<CameraMoveRecord> records;
+    for (const cv::FileNode& m : moves) {
+      if (m["frame"].empty()) throw InputError(path.string() + ": a camera move has no frame");
+      const std::vector<CameraModel> moved = ReadCameras(m["cameras"], path.string());
+      if (moved.size() != 1)
+        throw InputError(path.string() + ": a camera move must hold exactly one camera");
+      records.push_back({static_cast<int>(m["frame"]), moved.front()});
+    }
+    std::stable_sort(records.begin(), records.end(),
+                     [](const auto& a, const auto& b) { return a.frame < b.frame; });
+    for (const CameraMoveRecord& r : records) {
+      auto it = std::find_if(cameras.begin(), cameras.end(),
+                             [&](const CameraModel& c) { return c.id == r.camera.id; });
+      if (it == cameras.end())
+        throw InputError(path.string() + ": a camera move names unknown camera " + r.camera.id);
+      if (r.frame <= frame) *it = r.camera;
+    }
+    return cameras;
+  } catch (const cv::Exception& e) {
+    throw InputError(path.string() + ": malformed (" + e.err + ")");
+  }
+}
+
 }  // namespace silnet

@@ -26,6 +26,22 @@ void SaveCalibration(const std::filesystem::path& path, const std::vector<Camera
 // Throws InputError for a missing, unreadable or malformed file.
 std::vector<CameraModel> LoadCalibration(const std::filesystem::path& path);
 
+// A camera that moved during a capture: from frame `frame` on it is `camera` (same id).
+// Simulated ground truth lists these in a `camera_moves` sequence of {frame, cameras: [one
+// camera block]} entries.
+struct CameraMoveRecord {
+  int frame = 0;
+  CameraModel camera;
+};
+
+// Writes the `camera_moves` sequence into an open FileStorage.
+void WriteCameraMoves(cv::FileStorage& storage, const std::vector<CameraMoveRecord>& moves);
+
+// The cameras of a file with a `cameras` block as they were at `frame`: every `camera_moves`
+// entry from that frame or earlier applied in order. Throws as LoadCalibration does, and
+// for a move naming a camera the file does not hold.
+std::vector<CameraModel> LoadCamerasAtFrame(const std::filesystem::path& path, int frame);
+
 // Opens a FileStorage for reading; throws InputError with the path and OpenCV's reason.
 cv::FileStorage OpenYamlForReading(const std::filesystem::path& path);
 

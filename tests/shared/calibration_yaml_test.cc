@@ -117,5 +117,38 @@ TEST(CalibrationYaml, RejectsANonRotation) {
   ExpectRejected(dir / "c.yaml", "not a rotation");
 }
 
+TEST(CalibrationYaml, CamerasAtAFrameApplyTheMovesUpToIt) {
+  testing::TempDir dir;
+  const auto cameras = TwoCameras();
+  CameraModel moved = cameras[1];
+  moved.t += Eigen::Vector3d(0.3, 0.0, 0.0);
+  CameraModel moved_again = moved;
+  moved_again.t += Eigen::Vector3d(0.0, 0.2, 0.0);
+  {
+    cv::FileStorage fs((dir / "truth.yaml").string(), cv::FileStorage::WRITE);
+    WriteCameras(fs, cameras);
+    WriteCameraMoves(fs, {{90, moved_again}, {40, moved}});  // any order
+  }
+  EXPECT_EQ(LoadCamerasAtFrame(dir / "truth.yaml", 39)[1].t, cameras[1].t);
+  EXPECT_EQ(LoadCamerasAtFrame(dir / "truth.yaml", 40)[1].t, moved.t);
+  EXPECT_EQ(LoadCamerasAtFrame(dir / "truth.yaml", 1000)[1].t, moved_again.t);
+  EXPECT_EQ(LoadCamerasAtFrame(dir / "truth.yaml", 1000)[0].t, cameras[0].t);
+  EXPECT_EQ(LoadCalibration(dir / "truth.yaml")[1].t, cameras[1].t);
+
+  CameraModel stranger = moved;
+  stranger.id = "cam07";
+  {
+    cv::FileStorage fs((dir / "bad.yaml").string(), cv::FileStorage::WRITE);
+    WriteCameras(fs, cameras);
+    WriteCameraMoves(fs, {{10, stranger}});
+  }
+  try {
+    LoadCamerasAtFrame(dir / "bad.yaml", 20);
+    FAIL() << "accepted a move of an unknown camera";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown camera cam07"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace silnet

@@ -162,6 +162,37 @@ TEST(SimDataset, StoredSubjectGeometryIsTheSceneAtReferenceFrames) {
   EXPECT_EQ(static_cast<int>(fs["part_names"].size()), 2 * 17);
 }
 
+TEST(SimDataset, AMovedCameraRendersFromItsNewPoseFromItsFrameOnAndTheGroundTruthSaysSo) {
+  silnet::testing::TempDir dir;
+  RunSim(dir / "steady", {"--seed", "7"});
+  RunSim(dir / "moved", {"--seed", "7", "--move-camera", "cam01@6:3:0.1"});
+  for (int frame = 0; frame < 12; ++frame) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "masks/%06d.png", frame);
+    EXPECT_EQ(ReadBytes(dir / "steady/cam00" / name), ReadBytes(dir / "moved/cam00" / name));
+    const bool same =
+        ReadBytes(dir / "steady/cam01" / name) == ReadBytes(dir / "moved/cam01" / name);
+    EXPECT_EQ(same, frame < 6) << name;
+  }
+  const auto truth = dir / "moved/ground_truth.yaml";
+  const std::vector<CameraModel> before = LoadCamerasAtFrame(truth, 5);
+  const std::vector<CameraModel> after = LoadCamerasAtFrame(truth, 6);
+  ASSERT_EQ(before.size(), 4u);
+  ASSERT_EQ(after.size(), 4u);
+  EXPECT_EQ(LoadCalibration(truth)[1].R, before[1].R);
+  CameraMove move;
+  move.camera = 1;
+  move.frame = 6;
+  move.rotation_deg = 3.0;
+  move.shift = Eigen::Vector3d(0.1, 0.0, 0.0);
+  const CameraModel expected = MovedCamera(before[1], move);
+  EXPECT_LT((after[1].R - expected.R).norm(), 1e-9);
+  EXPECT_LT((after[1].Center() - expected.Center()).norm(), 1e-9);
+  EXPECT_NEAR((after[1].Center() - before[1].Center()).norm(), 0.1, 1e-9);
+  EXPECT_EQ(after[1].K, before[1].K);
+  EXPECT_EQ(after[0].R, before[0].R);
+}
+
 TEST(SimDataset, BadOptionsFailWithAClearMessage) {
   silnet::testing::TempDir dir;
   silnet::testing::ChildProcess bad(
@@ -174,6 +205,14 @@ TEST(SimDataset, BadOptionsFailWithAClearMessage) {
                                           dir.path());
   EXPECT_EQ(not_empty.Wait(std::chrono::seconds(30)), std::optional<int>(2));
   EXPECT_NE(not_empty.Stderr().find("not empty"), std::string::npos) << not_empty.Stderr();
+  for (const auto& [move, message] :
+       {std::pair{"cam09@5:1", "only 8 cameras"}, std::pair{"cam01@700:1", "within the capture"},
+        std::pair{"cam01:5:1", "looks like"}}) {
+    silnet::testing::ChildProcess moved(
+        kSim, {"generate", "-o", (dir / "m").string(), "--move-camera", move}, dir.path());
+    EXPECT_EQ(moved.Wait(std::chrono::seconds(30)), std::optional<int>(2)) << move;
+    EXPECT_NE(moved.Stderr().find(message), std::string::npos) << moved.Stderr();
+  }
 }
 
 }  // namespace
