@@ -20,7 +20,7 @@ struct LiveArgs {
   int cameras = 0, calibrate_after = 400, hull_frames = 30, hull_gap = 10, attempts = 3;
   int motion_window = 60, reestimate_frames = 240;
   double idle_exit_s = 5.0, give_up_s = 60.0, rig_radius = 1.0;
-  bool no_publish = false, polyhedral = false, overlays = false, serve = false;
+  bool no_publish = false, polyhedral = false, overlays = false, serve = false, continuous = false;
   PairwiseArgs pairwise;
 };
 
@@ -33,6 +33,7 @@ int RunLive(const LiveArgs& args) {
   options.max_calibration_attempts = args.attempts;
   options.hull_frames = args.hull_frames;
   options.hull_gap_frames = args.hull_gap;
+  options.continuous_hulls = args.continuous;
   options.ground_truth = args.ground_truth;
   options.publish = !args.no_publish;
   options.idle_exit_s = args.idle_exit_s;
@@ -75,8 +76,11 @@ Command AddLiveCommand(CLI::App& app) {
   cmd->add_option("--attempts", args->attempts,
                   "calibration attempts, each on 1.5x the frames of the one before")
       ->capture_default_str();
-  cmd->add_option("--hull-frames", args->hull_frames, "frames to build hulls of (0: none)")
+  cmd->add_option("--hull-frames", args->hull_frames,
+                  "frames to build hulls of (per batch with --hulls-continuous; 0: none)")
       ->capture_default_str();
+  cmd->add_flag("--hulls-continuous", args->continuous,
+                "keep building hulls, batch after batch, of every frame that arrives");
   cmd->add_option("--hull-gap", args->hull_gap,
                   "frames between the calibration window and the first hull frame")
       ->capture_default_str();
@@ -100,7 +104,7 @@ Command AddLiveCommand(CLI::App& app) {
                   "once hulls are built, exit after this many seconds without samples")
       ->capture_default_str();
   cmd->add_option("--give-up-after", args->give_up_s,
-                  "exit after this many seconds without samples in any case")
+                  "exit after this many seconds without samples while waiting for frames")
       ->capture_default_str();
   args->pairwise.AddTo(cmd);
   return {cmd, [args] { return RunLive(*args); }};

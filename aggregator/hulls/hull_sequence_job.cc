@@ -201,7 +201,9 @@ double DefaultVoxelSize(const SilhouetteSource& silhouettes,
   return bounds.box.diagonal().norm() / divisor;
 }
 
-void WriteIndex(const HullSequenceConfig& config, const HullSequenceResult& result) {
+}  // namespace
+
+void WriteHullIndex(const HullSequenceConfig& config, const HullSequenceResult& result) {
   const std::filesystem::path path = config.output / "hulls.yaml";
   cv::FileStorage fs(path.string(), cv::FileStorage::WRITE);
   if (!fs.isOpened()) throw InputError(fmt::format("cannot write {}", path.string()));
@@ -235,8 +237,6 @@ void WriteIndex(const HullSequenceConfig& config, const HullSequenceResult& resu
   }
   fs << "]";
 }
-
-}  // namespace
 
 bool HullSequenceOptions::IsValid(std::string* reason) const {
   if (!(voxel_size >= 0)) {
@@ -343,7 +343,7 @@ HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config, Progress
     result.frames[f].time_s = time;
     if (progress) progress->Advance();
   });
-  WriteIndex(config, result);
+  WriteHullIndex(config, result);
   if (progress) progress->Finish();
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

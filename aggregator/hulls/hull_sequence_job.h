@@ -90,6 +90,10 @@ struct HullSequenceResult {
 // data. `progress` (may be null) counts frames and is polled for cancellation between frames.
 HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config, Progress* progress);
 
+// Writes OUT/hulls.yaml, the sequence index of `result` (config.output is OUT). Throws
+// InputError if it cannot be written.
+void WriteHullIndex(const HullSequenceConfig& config, const HullSequenceResult& result);
+
 // The reference camera's index in `cameras` by the rule above (0 if none has offset 0).
 size_t ReferenceCameraIndex(const std::vector<CameraModel>& cameras);
 

@@ -200,7 +200,7 @@ std::optional<CameraUpdate> CameraMotionWatch::Finish(Step& step) {
       spdlog::info("live: {} re-estimated from {} partners, {:.3f} px rms; written to {}",
                    event.camera_id, estimate.partners.size(), estimate.rms_px, folder.string());
       WriteStatus();
-      return CameraUpdate{step.camera, estimate.camera};
+      return CameraUpdate{step.camera, estimate.camera, folder / "calibration.yaml"};
     }
   }
   ++checks_;

@@ -56,6 +56,7 @@ struct CameraMoveEvent {
 struct CameraUpdate {
   size_t camera = 0;
   CameraModel model;
+  std::filesystem::path calibration_file;  // the whole calibration with it, as written
 };
 
 // Watches one calibration at a time; used from one thread.

@@ -101,7 +101,12 @@ class LiveJob {
       if (stage_ == Stage::kDone && idle > options_.idle_exit_s && ingest_.Totals().missing == 0) {
         break;
       }
-      if (idle > options_.give_up_s && ingest_.Totals().received > 0) {
+      // Silence ends the run only while it waits for frames (or for missing ones at the end);
+      // a calibration or hull build in progress runs to its end on the frames that arrived.
+      const bool waiting_for_frames = stage_ == Stage::kCollecting ||
+                                      stage_ == Stage::kWaitingForHullFrames ||
+                                      stage_ == Stage::kDone;
+      if (waiting_for_frames && idle > options_.give_up_s && ingest_.Totals().received > 0) {
         spdlog::warn("live: no samples for {:.0f} s: stopping while {}", idle, ToString(stage_));
         if (result_.failure.empty())
           result_.failure = fmt::format("the streams went silent while {}", ToString(stage_));
@@ -150,7 +155,13 @@ class LiveJob {
         if (Ready(calibration_future_)) FinishCalibration(idle);
         break;
       case Stage::kWaitingForHullFrames:
-        if (ReadyForHulls(cameras, idle)) StartHulls();
+        // Building hulls continuously, the job is between batches here: a recalibration
+        // request is served now.
+        if (HullsOngoing() && result_.calibration && recalibrate_()) {
+          StartRecalibration(cameras);
+        } else if (ReadyForHulls(cameras, idle)) {
+          StartHulls();
+        }
         break;
       case Stage::kBuildingHulls:
         if (Ready(hulls_future_)) FinishHulls();
@@ -173,6 +184,7 @@ class LiveJob {
     if (!update) return;
     NetworkCalibration& calibration = result_.calibration->calibration;
     calibration.cameras[update->camera] = update->model;
+    UseForHulls(update->calibration_file);
     if (publisher_) {
       publisher_->Publish(calibration, NewCalibrationId());
       spdlog::info("live: calibration with {} re-estimated published", update->model.id);
@@ -195,7 +207,7 @@ class LiveJob {
   }
 
   void FinishRecalibration() {
-    stage_ = Stage::kDone;
+    stage_ = HullsOngoing() ? Stage::kWaitingForHullFrames : Stage::kDone;
     CalibrateJobResult calibration;
     const auto keep = [&](const std::string& why) {
       spdlog::error("live: {}; keeping the calibration in use", why);
@@ -219,6 +231,8 @@ class LiveJob {
     spdlog::info("live: recalibrated: {} cameras, reprojection rms {:.3f} px", placed,
                  result_.calibration->calibration.rms_px);
     WatchCalibration(recalibration_first_, options_.calibrate_after_frames);
+    UseForHulls(options_.output / ("recalibration-" + std::to_string(recalibration_first_)) /
+                "calibration.yaml");
     if (publisher_) {
       publisher_->Publish(result_.calibration->calibration, NewCalibrationId());
       spdlog::info("live: new calibration published");
@@ -314,10 +328,22 @@ class LiveJob {
       spdlog::info("live: calibration published on {}", options_.domain.Describe());
     }
     WatchCalibration(0, calibration_frames_);
-    hull_cameras_ = LoadCalibration(options_.output / "calibration" / "calibration.yaml");
+    UseForHulls(options_.output / "calibration" / "calibration.yaml");
     result_.hull_first_frame = calibration_frames_ + options_.hull_gap_frames;
+    hull_next_ = result_.hull_first_frame;
     hull_count_ = options_.hull_frames;
     stage_ = hull_count_ > 0 ? Stage::kWaitingForHullFrames : Stage::kDone;
+  }
+
+  // Hulls from now on use the calibration in `file`.
+  void UseForHulls(const std::filesystem::path& file) {
+    hull_calibration_ = file;
+    hull_cameras_ = LoadCalibration(file);
+  }
+
+  // Hulls are built batch after batch and the streams have not ended.
+  bool HullsOngoing() const {
+    return options_.continuous_hulls && options_.hull_frames > 0 && !hulls_ended_;
   }
 
   // The last frame of `camera` the hull of reference frame `frame` needs (the next one too
@@ -331,7 +357,7 @@ class LiveJob {
   // frames they need with their contours; if the streams end first, fewer frames are built.
   bool ReadyForHulls(const std::vector<CameraIngestStatus>& cameras, double idle) {
     auto have = [&](int n) {
-      const int last = result_.hull_first_frame + n - 1;
+      const int last = hull_next_ + n - 1;
       for (const CameraModel& camera : hull_cameras_) {
         auto it = std::find_if(cameras.begin(), cameras.end(), [&](const CameraIngestStatus& c) {
           return c.camera_id == camera.id;
@@ -347,7 +373,14 @@ class LiveJob {
     while (hull_count_ > 0 && !have(hull_count_))
       --hull_count_;
     if (hull_count_ == 0) {
-      Fail("the streams ended before any frame after the calibration window arrived");
+      hull_count_ = options_.hull_frames;
+      if (!result_.hulls) {
+        Fail("the streams ended before any frame after the calibration window arrived");
+      } else if (!options_.serve) {
+        // Continuous hulls: every frame that arrived has its hull.
+        hulls_ended_ = true;
+        stage_ = Stage::kDone;
+      }
       return false;
     }
     spdlog::warn("live: the streams ended; building hulls of {} frames instead of {}", hull_count_,
@@ -358,11 +391,14 @@ class LiveJob {
   void StartHulls() {
     HullSequenceConfig config;
     config.input = options_.output / "session";
-    config.calibration = options_.output / "calibration" / "calibration.yaml";
+    config.calibration = hull_calibration_;
     config.output = options_.output / "hulls";
-    config.first_frame = result_.hull_first_frame;
-    config.last_frame = result_.hull_first_frame + hull_count_;
+    config.first_frame = hull_next_;
+    config.last_frame = hull_next_ + hull_count_;
     config.options = options_.hulls;
+    // Later batches keep the first batch's voxel size.
+    if (result_.hulls) config.options.voxel_size = result_.hulls->voxel_size;
+    hull_config_ = config;
     spdlog::info("live: building the hulls of frames {}..{}", config.first_frame,
                  config.last_frame - 1);
     progress_ =
@@ -374,16 +410,28 @@ class LiveJob {
   }
 
   void FinishHulls() {
+    stage_ = Stage::kDone;
     try {
-      result_.hulls = hulls_future_.get();
+      HullSequenceResult batch = hulls_future_.get();
       spdlog::info("live: {} of {} hulls built, mean missed {:.2f} % of silhouette pixels",
-                   result_.hulls->Succeeded(), result_.hulls->frames.size(),
-                   100 * result_.hulls->MeanMissed());
+                   batch.Succeeded(), batch.frames.size(), 100 * batch.MeanMissed());
+      if (!result_.hulls) {
+        result_.hulls = std::move(batch);
+      } else {
+        // One index for every batch.
+        auto& frames = result_.hulls->frames;
+        frames.insert(frames.end(), batch.frames.begin(), batch.frames.end());
+        result_.hulls->seconds += batch.seconds;
+        WriteHullIndex(hull_config_, *result_.hulls);
+      }
     } catch (const std::exception& e) {
       result_.failure = fmt::format("hulls failed: {}", e.what());
       spdlog::error("live: {}", result_.failure);
+      return;
     }
-    stage_ = Stage::kDone;
+    hull_next_ += hull_count_;
+    hull_count_ = options_.hull_frames;
+    if (HullsOngoing()) stage_ = Stage::kWaitingForHullFrames;
   }
 
   void Fail(const std::string& why) {
@@ -415,7 +463,11 @@ class LiveJob {
   size_t camera_count_ = 0;
   Clock::time_point cameras_changed_ = Clock::now();
   int calibration_frames_;
-  int hull_count_ = 0;
+  int hull_count_ = 0;  // frames in the next batch
+  int hull_next_ = 0;   // first frame of the next batch
+  bool hulls_ended_ = false;
+  std::filesystem::path hull_calibration_;
+  HullSequenceConfig hull_config_;  // of the batch last started
   std::vector<CameraModel> hull_cameras_;
   std::unique_ptr<Progress> progress_;
   std::future<CalibrateJobResult> calibration_future_;

@@ -5,11 +5,12 @@
 // background (as `calibrate` does, into OUT/calibration), retrying on more frames if the
 // motion seen so far was not enough; it publishes the calibration on DDS; it builds the
 // visual hulls of frames that follow the calibration window as soon as they have arrived
-// (OUT/hulls); and it keeps ingesting until the nodes are done — or, as a service, until it
-// is stopped, recalibrating on request from the newest frames and publishing the new
-// calibration. While it runs it watches for cameras that moved after the calibration and
-// re-estimates them (camera_motion_watch.h), publishing the corrected calibration. Progress goes to
-// the log as it happens; the result feeds the report (live_report.h).
+// (OUT/hulls; one batch, or batch after batch until the streams end when continuous); and it keeps
+// ingesting until the nodes are done — or, as a service, until it is stopped, recalibrating on
+// request from the newest frames and publishing the new calibration. While it runs it watches for
+// cameras that moved after the calibration and re-estimates them (camera_motion_watch.h),
+// publishing the corrected calibration. Progress goes to the log as it happens; the result feeds
+// the report (live_report.h).
 
 #include <filesystem>
 #include <functional>
@@ -32,11 +33,13 @@ struct LiveJobOptions {
   int calibrate_after_frames = 400;    // frames every camera must have streamed first
   int max_calibration_attempts = 3;    // each waits for 1.5x the frames of the one before
   int hull_gap_frames = 10;            // first hull frame: this long after the window
-  int hull_frames = 30;                // reference frames to build hulls of
+  int hull_frames = 30;                // reference frames to build hulls of (per batch)
+  bool continuous_hulls = false;       // keep building batches of hull_frames as frames arrive
   std::filesystem::path ground_truth;  // a simulation's ground_truth.yaml to compare with
   bool publish = true;                 // publish the calibration on DDS
   double idle_exit_s = 5.0;            // once hulls are built, exit after this long without samples
-  double give_up_s = 60.0;             // exit after this long without samples in any case
+  double give_up_s = 60.0;             // exit after this long without samples while waiting for
+                                       // frames (a calibration or hull build runs to its end)
   bool serve = false;                  // run until stopped (idle_exit_s and give_up_s do not apply)
   CalibrateJobConfig calibrate;        // pairwise and calibration settings (input/output are set)
   HullSequenceOptions hulls;
@@ -63,10 +66,10 @@ struct LiveJobResult {
 };
 
 // Runs the job until it is done, `stop()` returns true, or the streams stay silent for
-// give_up_s. Once the first calibration is done, `recalibrate()` returning true starts a new
-// calibration on the newest calibrate_after_frames frames of every camera, published when
-// it places every camera the last one did. Throws InputError/DdsError if the store or DDS
-// cannot be opened.
+// give_up_s while it waits for frames. Once the first calibration is done, `recalibrate()`
+// returning true starts a new calibration on the newest calibrate_after_frames frames of every
+// camera, published when it places every camera the last one did. Throws InputError/DdsError if the
+// store or DDS cannot be opened.
 LiveJobResult RunLiveJob(
     const LiveJobOptions& options, const std::function<bool()>& stop,
     const std::function<bool()>& recalibrate = [] { return false; });

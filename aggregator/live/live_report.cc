@@ -193,6 +193,11 @@ std::string LiveSummary(const std::filesystem::path& out, const LiveJobResult& r
           100 * e.median_center_rel, e.median_offset_frames, e.max_offset_frames);
     }
   }
+  if (r.motion_checks > 0 && r.camera_moves.empty()) {
+    text += fmt::format(
+        "  motion       {} checks of every pair's epipolar residuals, no camera moved\n",
+        r.motion_checks);
+  }
   for (const CameraMoveEvent& e : r.camera_moves) {
     text += fmt::format(
         "  MOVED        {} (seen by frame {}): {}\n", e.camera_id, e.detected_frame,

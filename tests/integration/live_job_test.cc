@@ -61,11 +61,12 @@ TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsAndReport) {
   dds::Topic<silnet_wire_Calibration> topic(participant);
   dds::Reader<silnet_wire_Calibration> calibrations(topic);
   const std::filesystem::path out = work / "live";
-  testing::ChildProcess live(kBin / "aggregator/silnet-aggregator",
-                             {"live", "-o", out.string(), "--cameras", "8", "--calibrate-after",
-                              "400", "--hull-frames", "8", "--hull-gap", "20", "--ground-truth",
-                              (dataset / "ground_truth.yaml").string(), "--idle-exit", "3"},
-                             work.path());
+  testing::ChildProcess live(
+      kBin / "aggregator/silnet-aggregator",
+      {"live", "-o", out.string(), "--cameras", "8", "--calibrate-after", "400", "--hull-frames",
+       "8", "--hulls-continuous", "--hull-gap", "20", "--ground-truth",
+       (dataset / "ground_truth.yaml").string(), "--idle-exit", "3"},
+      work.path());
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   testing::ChildProcess nodes = StartMaskNodes(work, dataset, 15);
   ASSERT_EQ(live.Wait(seconds(600)), std::optional<int>(0)) << live.Stdout() << live.Stderr();
@@ -95,14 +96,35 @@ TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsAndReport) {
   EXPECT_LE(static_cast<double>(truth["max_offset_frames"]), 0.05);
   const cv::FileNode hulls = summary["hulls"];
   ASSERT_FALSE(hulls.empty());
+  // Continuous hulls: batch after batch of 8 from frame 420 until the streams ended (the
+  // newest reference frames need frames up to 15 frames later from the other cameras).
   EXPECT_EQ(static_cast<int>(hulls["first_frame"]), 420);
-  EXPECT_EQ(static_cast<int>(hulls["built"]), 8);
-  EXPECT_LE(static_cast<double>(hulls["mean_missed"]), 0.01);
-  for (int frame = 420; frame < 428; ++frame) {
+  const int built = static_cast<int>(hulls["built"]);
+  EXPECT_GE(built, 40);
+  EXPECT_EQ(static_cast<int>(hulls["frames"]), built);
+  for (int frame = 420; frame < 420 + built; ++frame) {
     char name[32];
     std::snprintf(name, sizeof(name), "frame_%06d.ply", frame);
     EXPECT_TRUE(std::filesystem::exists(out / "hulls" / name)) << name;
   }
+  cv::FileStorage index((out / "hulls/hulls.yaml").string(), cv::FileStorage::READ);
+  ASSERT_TRUE(index.isOpened());
+  ASSERT_EQ(static_cast<int>(index["frames"].size()), built);
+  std::string missed_per_frame;
+  for (int k = 0; k < built; ++k) {
+    const cv::FileNode frame = index["frames"][k];
+    EXPECT_EQ(static_cast<int>(frame["frame"]), 420 + k);
+    EXPECT_EQ(static_cast<int>(frame["closed_manifold"]), 1);
+    double missed = 0.0;
+    for (const cv::FileNode& view : frame["views"])
+      missed += static_cast<double>(view["missed_fraction"]) / 8.0;
+    missed_per_frame += std::to_string(420 + k) + ": " + std::to_string(missed) + "\n";
+  }
+  // Carved with the estimated calibration (rotation ~0.13 deg, a pixel or two at the
+  // subject), frames with the limbs spread miss up to ~4 % of the silhouette pixels; the
+  // mean over a run was 1.3 %. (With the true cameras the walker misses 0.2-0.7 %:
+  // tests/aggregator/hulls.)
+  EXPECT_LE(static_cast<double>(hulls["mean_missed"]), 0.02) << missed_per_frame;
   EXPECT_TRUE(std::filesystem::exists(out / "report.html"));
   EXPECT_TRUE(std::filesystem::exists(out / "calibration/report/report.html"));
   EXPECT_TRUE(std::filesystem::exists(out / "calibration/calibration.yaml"));
