@@ -29,15 +29,12 @@ const testing::SimCapture& Capture() {
 }
 
 void Report(benchmark::State& state, const NetworkCalibration& calibration) {
-  std::vector<bool> placed;
-  for (const CameraPlacement& p : calibration.placement)
-    placed.push_back(p.placed);
   if (calibration.PlacedCount() < 3) {
     state.SkipWithError("the network was not calibrated");
     return;
   }
   const CalibrationErrors e =
-      CompareWithGroundTruth(calibration.cameras, placed, Capture().cameras);
+      CompareWithGroundTruth(calibration.cameras, calibration.PlacedMask(), Capture().cameras);
   state.counters["rotation_deg"] = e.median_rotation_deg;
   state.counters["rms_px"] = calibration.rms_px;
 }
