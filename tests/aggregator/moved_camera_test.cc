@@ -24,19 +24,8 @@ constexpr size_t kMoved = 3;
 constexpr uint64_t kWindow = 90;
 
 const testing::SimCapture& Capture() {
-  static const testing::SimCapture capture = [] {
-    sim::CameraNetworkOptions network;
-    network.seed = 1;
-    sim::SceneOptions scene;
-    scene.seed = 1;
-    sim::CameraMove move;
-    move.camera = static_cast<int>(kMoved);
-    move.frame = kMoveFrame;
-    move.rotation_deg = 2.0;
-    move.axis = Eigen::Vector3d(0.2, 1.0, 0.1);
-    move.shift = Eigen::Vector3d(0.05, -0.03, 0.02);
-    return testing::MakeSimCaptureWithMove(network, scene, kFrames, move);
-  }();
+  static const testing::SimCapture capture =
+      testing::MakeRingWithKnockedCamera(kMoved, kMoveFrame, kFrames);
   return capture;
 }
 

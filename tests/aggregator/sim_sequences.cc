@@ -100,6 +100,20 @@ SimCapture MakeSimCaptureWithMove(const sim::CameraNetworkOptions& network,
       &move);
 }
 
+SimCapture MakeRingWithKnockedCamera(size_t camera, int move_frame, int frames) {
+  sim::CameraNetworkOptions network;
+  network.seed = 1;
+  sim::SceneOptions scene;
+  scene.seed = 1;
+  sim::CameraMove move;
+  move.camera = static_cast<int>(camera);
+  move.frame = move_frame;
+  move.rotation_deg = 2.0;
+  move.axis = Eigen::Vector3d(0.2, 1.0, 0.1);
+  move.shift = Eigen::Vector3d(0.05, -0.03, 0.02);
+  return MakeSimCaptureWithMove(network, scene, frames, move);
+}
+
 std::vector<SilhouetteSequence> SliceSequences(const std::vector<SilhouetteSequence>& sequences,
                                                uint64_t first, uint64_t count) {
   std::vector<SilhouetteSequence> out;

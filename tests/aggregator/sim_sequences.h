@@ -37,6 +37,10 @@ SimCapture MakeSimCaptureWithMove(const sim::CameraNetworkOptions& network,
                                   const sim::SceneOptions& scene, int frames,
                                   const sim::CameraMove& move);
 
+// The default 8-camera ring (seed 1) of `frames` exact masks, camera `camera` knocked at
+// `move_frame`: turned 2 degrees about a slightly tilted vertical axis and shifted 6 cm.
+SimCapture MakeRingWithKnockedCamera(size_t camera, int move_frame, int frames);
+
 // The frames [first, first + count) of each sequence.
 std::vector<SilhouetteSequence> SliceSequences(const std::vector<SilhouetteSequence>& sequences,
                                                uint64_t first, uint64_t count);

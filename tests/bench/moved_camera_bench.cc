@@ -1,5 +1,5 @@
 // Watching a calibrated network for moved cameras (aggregator/calibration), on a simulated
-// 8-camera ring whose cam03 pans 2 degrees and shifts 5 cm at frame 300:
+// 8-camera ring whose cam03 turns 2 degrees and shifts 6 cm at frame 300:
 //   build/tests/bench/silnet_calibrate_bench --benchmark_filter=Motion
 // BM_MotionCheck8x60: one check, every pair's epipolar residuals on a 60-frame window against
 //   the calibration (the live job runs one per 60 frames, i.e. every 2 s at 30 fps); one core.
@@ -22,18 +22,7 @@ namespace {
 constexpr size_t kMoved = 3;
 
 const testing::SimCapture& MovedCapture() {
-  static const testing::SimCapture capture = [] {
-    sim::CameraNetworkOptions network;
-    network.seed = 1;
-    sim::SceneOptions scene;
-    scene.seed = 1;
-    sim::CameraMove move;
-    move.camera = static_cast<int>(kMoved);
-    move.frame = 300;
-    move.rotation_deg = 2.0;
-    move.shift = Eigen::Vector3d(0.05, 0.0, 0.0);
-    return testing::MakeSimCaptureWithMove(network, scene, 600, move);
-  }();
+  static const testing::SimCapture capture = testing::MakeRingWithKnockedCamera(kMoved, 300, 600);
   return capture;
 }
 
