@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "aggregator/hulls/boundary_mesh.h"
+#include "aggregator/hulls/hull_reprojection.h"
 #include "aggregator/hulls/polyhedral_hull.h"
 #include "aggregator/hulls/silhouette_interpolation.h"
 #include "aggregator/hulls/voxel_hull.h"
@@ -78,18 +79,28 @@ void BM_CarveAndMesh8Views(benchmark::State& state) {
 }
 BENCHMARK(BM_CarveAndMesh8Views)->Arg(10)->Arg(20)->Unit(benchmark::kMillisecond);
 
+// Arg: contour tolerance in tenths of a pixel. Counters: the worst view's missed and extra
+// silhouette pixels (percent).
 void BM_PolyhedralHull8Views(benchmark::State& state) {
   const Frame& frame = TheFrame();
-  size_t triangles = 0;
+  PolyhedralHullOptions options;
+  options.contour_tolerance_px = static_cast<double>(state.range(0)) / 10.0;
+  PolyhedralHullResult hull;
   for (auto _ : state) {
-    const PolyhedralHullResult hull = ComputePolyhedralHull(frame.cameras, frame.masks);
+    hull = ComputePolyhedralHull(frame.cameras, frame.masks, options);
     if (!hull.success) state.SkipWithError(hull.reason.c_str());
-    triangles = hull.mesh.triangles.size();
-    benchmark::DoNotOptimize(triangles);
+    benchmark::DoNotOptimize(hull.mesh.triangles.size());
   }
-  state.counters["triangles"] = static_cast<double>(triangles);
+  state.counters["triangles"] = static_cast<double>(hull.mesh.triangles.size());
+  double missed = 0.0, extra = 0.0;
+  for (const ViewReprojection& v : MeasureHullReprojection(hull.mesh, frame.cameras, frame.masks)) {
+    missed = std::max(missed, v.missed_fraction);
+    extra = std::max(extra, v.spurious_fraction);
+  }
+  state.counters["worst_view_missed_pct"] = 100.0 * missed;
+  state.counters["worst_view_extra_pct"] = 100.0 * extra;
 }
-BENCHMARK(BM_PolyhedralHull8Views)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PolyhedralHull8Views)->Arg(5)->Arg(10)->Unit(benchmark::kMillisecond);
 
 void BM_InterpolateSilhouette640x480(benchmark::State& state) {
   const Frame& frame = TheFrame();
