@@ -18,5 +18,7 @@ Command AddPairsCommand(CLI::App& app);
 Command AddCalibrateCommand(CLI::App& app);
 Command AddHullsCommand(CLI::App& app);
 Command AddLiveCommand(CLI::App& app);
+Command AddStatusCommand(CLI::App& app);
+Command AddRecalibrateCommand(CLI::App& app);
 
 }  // namespace silnet::aggregator::cli

@@ -10,6 +10,7 @@
 #include "aggregator/cli/commands.h"
 #include "aggregator/live/live_job.h"
 #include "aggregator/live/live_report.h"
+#include "aggregator/live/service_control.h"
 #include "shared/util/check.h"
 
 namespace silnet::aggregator::cli {
@@ -50,6 +51,7 @@ int RunLive(const LiveArgs& args) {
   options.hulls.overlays = args.overlays;
   if (!args.ground_truth.empty() && !std::filesystem::is_regular_file(args.ground_truth))
     throw InputError("--ground-truth " + args.ground_truth + " is not a file");
+  const LivePidFile pid_file(options.output);
   const LiveJobResult result = RunLiveJob(
       options, [] { return StopRequested(); }, [] { return TakeRecalibrationRequest(); });
   WriteLiveReport(options.output, result);
@@ -97,7 +99,8 @@ Command AddLiveCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--no-publish", args->no_publish, "do not publish the calibration on DDS");
   cmd->add_flag("--serve", args->serve,
-                "run as a service until SIGINT/SIGTERM; SIGHUP recalibrates on the newest frames");
+                "run as a service until SIGINT/SIGTERM; SIGHUP (or `silnet-aggregator recalibrate "
+                "OUT`) recalibrates on the newest frames");
   cmd->add_flag("--polyhedral", args->polyhedral, "exact polyhedral hulls (voxels as fallback)");
   cmd->add_flag("--overlays", args->overlays, "hull reprojection overlays per view");
   cmd->add_option("--idle-exit", args->idle_exit_s,

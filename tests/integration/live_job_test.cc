@@ -5,12 +5,14 @@
 // frame may be lost, the hulls must be closed and reproject onto the silhouettes, a reader
 // must receive the published calibration, and no camera may be reported moved. As a service
 // (--serve) it notices a camera knocked out of place mid-run, re-estimates it and publishes
-// the corrected calibration, and recalibrates on the newest frames on SIGHUP.
+// the corrected calibration, shows its state through `silnet-aggregator status`, and
+// recalibrates on the newest frames when `silnet-aggregator recalibrate` asks.
 
 #include <gtest/gtest.h>
 #include <signal.h>
 
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <opencv2/core/persistence.hpp>
 #include <set>
@@ -168,7 +170,17 @@ TEST(LiveJob, AsAServiceItReestimatesAMovedCameraAndRecalibratesWhenAsked) {
       seconds(300)))
       << live.Stderr();
   EXPECT_NE(live.Stderr().find("CAMERA MOVED: cam03"), std::string::npos);
-  live.Signal(SIGHUP);
+  // The operator's view and command: `status` shows every node and the moved camera,
+  // `recalibrate` asks the running job for a new calibration.
+  testing::ChildProcess status(kBin / "aggregator/silnet-aggregator", {"status", out.string()},
+                               work.path());
+  ASSERT_EQ(status.Wait(seconds(30)), std::optional<int>(0)) << status.Stderr();
+  EXPECT_NE(status.Stdout().find("live job running"), std::string::npos) << status.Stdout();
+  EXPECT_NE(status.Stdout().find("cam07"), std::string::npos) << status.Stdout();
+  EXPECT_NE(status.Stdout().find("cam03 moved"), std::string::npos) << status.Stdout();
+  testing::ChildProcess recalibrate(kBin / "aggregator/silnet-aggregator",
+                                    {"recalibrate", out.string()}, work.path());
+  ASSERT_EQ(recalibrate.Wait(seconds(30)), std::optional<int>(0)) << recalibrate.Stderr();
   ASSERT_TRUE(Eventually(
       [&] { return live.Stderr().find("live: new calibration published") != std::string::npos; },
       seconds(400)))
@@ -206,6 +218,32 @@ TEST(LiveJob, AsAServiceItReestimatesAMovedCameraAndRecalibratesWhenAsked) {
   EXPECT_LE(static_cast<double>(truth["max_offset_frames"]), 0.05);
   EXPECT_TRUE(std::filesystem::exists(out / "recalibration-600/calibration.yaml"));
   EXPECT_EQ(static_cast<double>(summary["frames_missing"]), 0.0);
+  EXPECT_FALSE(std::filesystem::exists(out / "live.pid"));
+}
+
+TEST(LiveJob, ServiceCommandsSayWhyWhenNoJobRunsThere) {
+  testing::TempDir work;
+  testing::ChildProcess recalibrate(kBin / "aggregator/silnet-aggregator",
+                                    {"recalibrate", (work / "nothing").string()}, work.path());
+  EXPECT_EQ(recalibrate.Wait(seconds(30)), std::optional<int>(2));
+  EXPECT_NE(recalibrate.Stderr().find("no live job runs in"), std::string::npos)
+      << recalibrate.Stderr();
+  // A pid file left by a job that died.
+  std::filesystem::create_directories(work / "dead/session");
+  std::ofstream(work / "dead/live.pid") << 999999999 << "\n";
+  std::ofstream(work / "dead/session/ingest_summary.yaml") << "%YAML:1.0\n---\ncameras: []\n";
+  testing::ChildProcess again(kBin / "aggregator/silnet-aggregator",
+                              {"recalibrate", (work / "dead").string()}, work.path());
+  EXPECT_EQ(again.Wait(seconds(30)), std::optional<int>(2));
+  testing::ChildProcess status(kBin / "aggregator/silnet-aggregator",
+                               {"status", (work / "dead").string()}, work.path());
+  EXPECT_EQ(status.Wait(seconds(30)), std::optional<int>(0)) << status.Stderr();
+  EXPECT_NE(status.Stdout().find("no live job running"), std::string::npos) << status.Stdout();
+  testing::ChildProcess nothing(kBin / "aggregator/silnet-aggregator",
+                                {"status", (work / "nothing").string()}, work.path());
+  EXPECT_EQ(nothing.Wait(seconds(30)), std::optional<int>(2));
+  EXPECT_NE(nothing.Stderr().find("holds no live job's status"), std::string::npos)
+      << nothing.Stderr();
 }
 
 }  // namespace
