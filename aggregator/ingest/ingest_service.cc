@@ -111,6 +111,7 @@ struct IngestService::Impl {
     if (late) ++t.status.out_of_order;
     if (record.flags & silnet_wire_FRAME_RESENT) ++t.status.resent_received;
     t.held.Insert(record.frame_index);
+    if (options.on_hull_stored) options.on_hull_stored(record);
     t.any = true;
     const bool has_contour =
         t.contour_every > 0 && record.frame_index % static_cast<uint64_t>(t.contour_every) == 0 &&

@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -29,6 +30,9 @@ struct IngestOptions {
   std::chrono::milliseconds resend_interval{1500};  // and asking again waits this long
   uint64_t max_resend_frames = 2000;                // frames asked for in one command
   std::chrono::milliseconds stall_after{3000};      // a camera silent this long has stalled
+  // Called (from Poll) with every hull frame of a camera's newest session once it is stored,
+  // for consumers that follow the streams in memory; may be empty.
+  std::function<void(const FrameRecord&)> on_hull_stored;
 };
 
 // Counters of one camera.

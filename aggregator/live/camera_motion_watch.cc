@@ -23,11 +23,11 @@ struct CameraMotionWatch::Step {
   std::string error;  // the frames could not be read
 };
 
-CameraMotionWatch::CameraMotionWatch(const CameraMotionWatchOptions& options,
-                                     std::filesystem::path session, std::filesystem::path output,
+CameraMotionWatch::CameraMotionWatch(const CameraMotionWatchOptions& options, FrameWindow frames,
+                                     std::filesystem::path output,
                                      std::filesystem::path ground_truth)
     : options_(options),
-      session_(std::move(session)),
+      frames_(std::move(frames)),
       output_(std::move(output)),
       ground_truth_(std::move(ground_truth)) {
   if (options_.window_frames < 0 || options_.reestimate_frames < 20 || options_.max_attempts < 1)
@@ -75,14 +75,19 @@ void CameraMotionWatch::Launch(std::function<void(Step*)> setup) {
   setup(step.get());
   progress_ = std::make_unique<Progress>("camera motion", 0, ConsoleProgressPrinter(),
                                          std::chrono::seconds(5));
-  step_ = std::async(
-      std::launch::async, [this, monitor = monitor_.get(), progress = progress_.get(),
-                           cameras = cameras_, placed = placed_, step = std::move(step)]() mutable {
+  // The frames are taken now, before the holder may drop them.
+  std::vector<SilhouetteSequence> sequences;
+  try {
+    sequences = frames_(static_cast<uint64_t>(step->first), static_cast<uint64_t>(step->count));
+  } catch (const std::exception& e) {
+    step->error = e.what();
+  }
+  step_ =
+      std::async(std::launch::async, [this, monitor = monitor_.get(), progress = progress_.get(),
+                                      cameras = cameras_, placed = placed_, step = std::move(step),
+                                      sequences = std::move(sequences)]() mutable {
+        if (!step->error.empty()) return std::move(step);
         try {
-          SequenceLoadOptions load;
-          load.first_frame = step->first;
-          load.max_frames = step->count;
-          const std::vector<SilhouetteSequence> sequences = LoadSequences(session_, load);
           switch (step->kind) {
             case Step::Kind::kBaseline:
               monitor->SetBaseline(sequences);
@@ -104,6 +109,14 @@ void CameraMotionWatch::Launch(std::function<void(Step*)> setup) {
       });
 }
 
+std::optional<int> CameraMotionWatch::OldestNeeded(int newest) const {
+  if (!monitor_) return std::nullopt;
+  // The baseline and the next check lie within two windows of next_end_.
+  int oldest = next_end_ - 2 * options_.window_frames;
+  if (pending_) oldest = std::min(oldest, newest - options_.reestimate_frames);
+  return std::max(oldest, 0);
+}
+
 std::optional<CameraUpdate> CameraMotionWatch::Poll(int newest) {
   if (!monitor_) return std::nullopt;
   if (step_.valid()) {
@@ -116,10 +129,7 @@ std::optional<CameraUpdate> CameraMotionWatch::Poll(int newest) {
     const CameraMoveEvent& event = events_[*pending_];
     const int first = newest - options_.reestimate_frames;
     if (first < event.after_frame) return std::nullopt;
-    const size_t camera = static_cast<size_t>(
-        std::find_if(cameras_.begin(), cameras_.end(),
-                     [&](const CameraModel& c) { return c.id == event.camera_id; }) -
-        cameras_.begin());
+    const size_t camera = pending_camera_;
     spdlog::info("live: re-estimating {} from frames {}..{}, the other cameras held",
                  event.camera_id, first, newest - 1);
     Launch([&](Step* step) {
@@ -225,6 +235,7 @@ std::optional<CameraUpdate> CameraMotionWatch::Finish(Step& step) {
     event.pairs_measured = v.pairs_measured;
     events_.push_back(event);
     pending_ = events_.size() - 1;
+    pending_camera_ = v.camera;
     spdlog::warn(
         "live: CAMERA MOVED: {}'s epipolar residuals rose from {:.2f} px to {:.2f} px on {} of "
         "{} pairs; it will be re-estimated once {} frames after frame {} have arrived",
@@ -254,9 +265,13 @@ void CameraMotionWatch::WriteStatus() const {
        << static_cast<int>(v.moved) << "}";
   }
   fs << "]";
-  fs << "moves"
-     << "[";
-  for (const CameraMoveEvent& e : events_) {
+  WriteMoveEvents(fs, "moves", events_);
+}
+
+void WriteMoveEvents(cv::FileStorage& fs, const std::string& key,
+                     const std::vector<CameraMoveEvent>& events) {
+  fs << key << "[";
+  for (const CameraMoveEvent& e : events) {
     fs << "{"
        << "id" << e.camera_id << "detected_frame" << e.detected_frame << "after_frame"
        << e.after_frame << "residual_px" << e.residual_px << "baseline_px" << e.baseline_px

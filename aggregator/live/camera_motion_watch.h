@@ -4,7 +4,8 @@
 // the calibration in use (camera_motion_monitor.h); a camera reported moved gets a warning,
 // and once `reestimate_frames` frames after the move have arrived it is re-estimated with
 // the other cameras held (moved_camera_reestimation.h). All work runs in the background, one
-// step at a time; the job polls. Writes into the job's output folder:
+// step at a time, on frames taken from the job's in-memory window when the step starts; the
+// job polls, and keeps the frames from OldestNeeded on. Writes into the job's output folder:
 //   camera_motion.yaml             every camera's residual against its baseline after each
 //                                  check, and the moves seen so far
 //   camera-moved-<id>-<frame>/calibration.yaml   the calibration after a re-estimate
@@ -13,6 +14,7 @@
 #include <functional>
 #include <future>
 #include <memory>
+#include <opencv2/core/persistence.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,6 +54,11 @@ struct CameraMoveEvent {
   double truth_center_rel = -1.0;
 };
 
+// Writes `events` as a sequence under `key` (camera_motion.yaml's `moves`,
+// live_summary.yaml's `camera_moves`).
+void WriteMoveEvents(cv::FileStorage& fs, const std::string& key,
+                     const std::vector<CameraMoveEvent>& events);
+
 // A camera whose model changed (to apply to the calibration in use and publish).
 struct CameraUpdate {
   size_t camera = 0;
@@ -59,12 +66,15 @@ struct CameraUpdate {
   std::filesystem::path calibration_file;  // the whole calibration with it, as written
 };
 
+// Every camera's held frames [first, first + count), as sequences.
+using FrameWindow = std::function<std::vector<SilhouetteSequence>(uint64_t first, uint64_t count)>;
+
 // Watches one calibration at a time; used from one thread.
 class CameraMotionWatch {
  public:
-  // `session` is the session store the frames are read from, `output` the job's folder,
-  // `ground_truth` a simulation's ground_truth.yaml (empty if none).
-  CameraMotionWatch(const CameraMotionWatchOptions& options, std::filesystem::path session,
+  // `frames` gives the frames to work on, `output` is the job's folder, `ground_truth` a
+  // simulation's ground_truth.yaml (empty if none).
+  CameraMotionWatch(const CameraMotionWatchOptions& options, FrameWindow frames,
                     std::filesystem::path output, std::filesystem::path ground_truth);
   ~CameraMotionWatch();
 
@@ -77,6 +87,9 @@ class CameraMotionWatch {
   // Finishes a completed step and launches the next one that frames [0, newest) of every
   // camera allow. Returns the update when a moved camera has just been re-estimated.
   std::optional<CameraUpdate> Poll(int newest);
+  // The oldest frame the watch may still ask for while frames [0, newest) are held, or
+  // nullopt while it is idle (what Start will ask for is up to the caller).
+  std::optional<int> OldestNeeded(int newest) const;
 
   const std::vector<CameraMoveEvent>& events() const { return events_; }
   int checks() const { return checks_; }
@@ -88,13 +101,15 @@ class CameraMotionWatch {
   void WriteStatus() const;
 
   CameraMotionWatchOptions options_;
-  std::filesystem::path session_, output_, ground_truth_;
+  FrameWindow frames_;
+  std::filesystem::path output_, ground_truth_;
   std::unique_ptr<CameraMotionMonitor> monitor_;
   std::vector<CameraModel> cameras_;
   std::vector<bool> placed_;
   std::vector<bool> given_up_;
   int next_end_ = 0;               // end of the next window to check
   std::optional<size_t> pending_;  // event index of a move awaiting its re-estimate
+  size_t pending_camera_ = 0;      // and its camera
   std::unique_ptr<Progress> progress_;
   std::future<std::unique_ptr<Step>> step_;
   std::vector<CameraMoveEvent> events_;

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "aggregator/calibration/calibration_publisher.h"
+#include "aggregator/live/recent_silhouettes.h"
 #include "shared/io/calibration_yaml.h"
 #include "shared/util/check.h"
 
@@ -70,10 +71,13 @@ class LiveJob {
       : options_(options),
         stop_(stop),
         recalibrate_(recalibrate),
-        ingest_(IngestOptionsFor(options)),
-        watch_(options.motion, options.output / "session", options.output,
-               options.ground_truth.empty() ? std::filesystem::path()
-                                            : options.output / "session" / "ground_truth.yaml"),
+        ingest_(IngestOptionsFor(options, &recent_)),
+        watch_(
+            options.motion,
+            [this](uint64_t first, uint64_t count) { return FrameWindow(first, count); },
+            options.output,
+            options.ground_truth.empty() ? std::filesystem::path()
+                                         : options.output / "session" / "ground_truth.yaml"),
         calibration_frames_(options.calibrate_after_frames) {}
 
   LiveJobResult Run() {
@@ -129,10 +133,13 @@ class LiveJob {
   }
 
  private:
-  static IngestOptions IngestOptionsFor(const LiveJobOptions& options) {
+  static IngestOptions IngestOptionsFor(const LiveJobOptions& options, RecentSilhouettes* recent) {
     IngestOptions ingest;
     ingest.store_dir = options.output / "session" / "sessions";
     ingest.domain = options.domain;
+    // The camera motion watch works on the newest frames, held in memory.
+    if (options.motion.window_frames > 0)
+      ingest.on_hull_stored = [recent](const FrameRecord& record) { recent->Add(record); };
     return ingest;
   }
 
@@ -175,12 +182,25 @@ class LiveJob {
     }
   }
 
+  // Every camera's frames [first, first + count): from memory, or from the session store
+  // for frames this run did not receive itself (stored before a restart).
+  std::vector<SilhouetteSequence> FrameWindow(uint64_t first, uint64_t count) const {
+    if (recent_.Holds(first)) return recent_.Window(first, count);
+    SequenceLoadOptions load;
+    load.first_frame = static_cast<int>(first);
+    load.max_frames = static_cast<int>(count);
+    return LoadSequences(options_.output / "session", load);
+  }
+
   // Once a calibration is in use (and none is being computed), the watch checks the newest
   // frames; a re-estimated camera replaces its model in the calibration, which is published.
   void WatchForMovedCameras(const std::vector<CameraIngestStatus>& cameras) {
     if (!result_.calibration || stage_ == Stage::kCalibrating || stage_ == Stage::kRecalibrating)
       return;
-    const std::optional<CameraUpdate> update = watch_.Poll(FewestStreamed(cameras));
+    const int newest = FewestStreamed(cameras);
+    if (const std::optional<int> oldest = watch_.OldestNeeded(newest))
+      recent_.DropBefore(static_cast<uint64_t>(*oldest));
+    const std::optional<CameraUpdate> update = watch_.Poll(newest);
     if (!update) return;
     NetworkCalibration& calibration = result_.calibration->calibration;
     calibration.cameras[update->camera] = update->model;
@@ -284,6 +304,9 @@ class LiveJob {
     config.first_frame = first;
     config.max_frames = frames;
     recalibration_first_ = first;
+    // The motion watch's baseline will be the window's last frames; older ones can go.
+    recent_.DropBefore(
+        static_cast<uint64_t>(std::max(0, first + frames - options_.motion.window_frames)));
     progress_ = std::make_unique<Progress>("calibrate", 0, ConsoleProgressPrinter(),
                                            std::chrono::seconds(5));
     Progress* progress = progress_.get();
@@ -455,6 +478,7 @@ class LiveJob {
   std::function<bool()> stop_;
   std::function<bool()> recalibrate_;
   int recalibration_first_ = 0;
+  RecentSilhouettes recent_;  // before ingest_, which feeds it
   IngestService ingest_;
   CameraMotionWatch watch_;
   std::unique_ptr<dds::Participant> participant_;

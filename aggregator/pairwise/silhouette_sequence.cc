@@ -20,21 +20,6 @@ namespace {
 constexpr uint32_t kUnusable = silnet_wire_FRAME_EMPTY | silnet_wire_FRAME_SATURATED |
                                silnet_wire_FRAME_BAD_INPUT | silnet_wire_FRAME_DROPPED;
 
-SilhouetteFrame DecodeFrame(const FrameRecord& record) {
-  SilhouetteFrame frame;
-  frame.index = record.frame_index;
-  frame.capture_time_ns = record.capture_time_ns;
-  frame.flags = record.flags;
-  HullPayload payload;
-  std::string error;
-  if (!DecodeHull(record.payload, record.width, record.height, &payload, &error)) {
-    frame.flags |= silnet_wire_FRAME_BAD_INPUT;
-  } else {
-    frame.hull = std::move(payload.hull);
-  }
-  return frame;
-}
-
 std::vector<SilhouetteSequence> FromSessionLogs(const std::filesystem::path& dir,
                                                 const SequenceLoadOptions& options) {
   std::vector<SilhouetteSequence> out;
@@ -54,7 +39,7 @@ std::vector<SilhouetteSequence> FromSessionLogs(const std::filesystem::path& dir
         break;
       seq.width = record.width;
       seq.height = record.height;
-      seq.frames.push_back(DecodeFrame(record));
+      seq.frames.push_back(DecodeSilhouetteFrame(record));
     }
     seq.Index();
     out.push_back(std::move(seq));
@@ -93,13 +78,28 @@ SilhouetteSequence FromDatasetCamera(const DatasetLayout& layout, const std::str
     captured.image = image;
     captured.frame_index = static_cast<uint64_t>(frame);
     captured.capture_time_ns = static_cast<int64_t>(frame / fps * 1e9);
-    seq.frames.push_back(DecodeFrame(processor->Process(captured).hull));
+    seq.frames.push_back(DecodeSilhouetteFrame(processor->Process(captured).hull));
   }
   seq.Index();
   return seq;
 }
 
 }  // namespace
+
+SilhouetteFrame DecodeSilhouetteFrame(const FrameRecord& record) {
+  SilhouetteFrame frame;
+  frame.index = record.frame_index;
+  frame.capture_time_ns = record.capture_time_ns;
+  frame.flags = record.flags;
+  HullPayload payload;
+  std::string error;
+  if (!DecodeHull(record.payload, record.width, record.height, &payload, &error)) {
+    frame.flags |= silnet_wire_FRAME_BAD_INPUT;
+  } else {
+    frame.hull = std::move(payload.hull);
+  }
+  return frame;
+}
 
 const SilhouetteFrame* SilhouetteSequence::Usable(uint64_t index) const {
   if (frames.empty() || index < first_index() || index > last_index()) return nullptr;

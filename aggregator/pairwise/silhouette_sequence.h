@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "shared/io/frame_record.h"
 #include "shared/silhouette/silhouette_hull.h"
 
 namespace silnet::aggregator {
@@ -45,6 +46,10 @@ struct SilhouetteSequence {
  private:
   std::vector<int32_t> position_;  // frame index - first_index() -> position, or -1
 };
+
+// A stored hull record decoded as the estimator uses it; an undecodable hull leaves the
+// frame flagged FRAME_BAD_INPUT with an empty hull.
+SilhouetteFrame DecodeSilhouetteFrame(const FrameRecord& record);
 
 // Where sequences come from.
 enum class SequenceSource {
