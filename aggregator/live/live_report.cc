@@ -135,16 +135,8 @@ void WriteSummaryYaml(const std::filesystem::path& path, const LiveJobResult& r)
          << "max_offset_frames" << e.max_offset_frames << "}";
     }
   }
-  fs << "motion_checks" << r.motion_checks << "camera_moves"
-     << "[";
-  for (const CameraMoveEvent& e : r.camera_moves) {
-    fs << "{"
-       << "id" << e.camera_id << "detected_frame" << e.detected_frame << "reestimated"
-       << static_cast<int>(e.reestimated) << "reestimate_first_frame" << e.reestimate_first_frame
-       << "rms_px" << e.rms_px << "truth_rotation_deg" << e.truth_rotation_deg << "truth_center_rel"
-       << e.truth_center_rel << "reason" << e.reason << "}";
-  }
-  fs << "]";
+  fs << "motion_checks" << r.motion_checks;
+  WriteMoveEvents(fs, "camera_moves", r.camera_moves);
   if (r.hulls) {
     fs << "hulls"
        << "{"

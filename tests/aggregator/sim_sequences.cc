@@ -1,5 +1,7 @@
 #include "tests/aggregator/sim_sequences.h"
 
+#include <optional>
+
 #include "node/pipeline/frame_processor.h"
 #include "shared/silhouette/hull_codec.h"
 #include "shared/util/check.h"
@@ -39,10 +41,13 @@ SimCapture Capture(const sim::CameraNetworkOptions& network, const sim::SceneOpt
     const CameraModel& camera = capture.cameras[c];
     const sim::CameraRenderer renderer(camera, *capture.scene, sim::RenderSettings{},
                                        static_cast<int>(c));
-    const sim::CameraRenderer renderer_at_end(capture.cameras_at_end[c], *capture.scene,
-                                              sim::RenderSettings{}, static_cast<int>(c));
-    const int moves_at =
-        move != nullptr && move->camera == static_cast<int>(c) ? move->frame : frames;
+    // Only a camera that moves needs a second renderer (each draws its own noise table).
+    const bool moves = move != nullptr && move->camera == static_cast<int>(c);
+    std::optional<sim::CameraRenderer> renderer_at_end;
+    if (moves)
+      renderer_at_end.emplace(capture.cameras_at_end[c], *capture.scene, sim::RenderSettings{},
+                              static_cast<int>(c));
+    const int moves_at = moves ? move->frame : frames;
     node::FrameProcessorOptions options;
     options.camera_id = camera.id;
     options.contour_every = 0;
@@ -56,7 +61,7 @@ SimCapture Capture(const sim::CameraNetworkOptions& network, const sim::SceneOpt
     seq.fps = camera.fps;
     for (int k = 0; k < frames; ++k) {
       node::CapturedFrame frame;
-      render(k < moves_at ? renderer : renderer_at_end, c, k, &rng, &frame.image);
+      render(k < moves_at ? renderer : *renderer_at_end, c, k, &rng, &frame.image);
       frame.frame_index = static_cast<uint64_t>(k);
       const node::ProcessedFrame out =
           frame.image.empty() ? processor.Flagged(frame.frame_index, 0, silnet_wire_FRAME_DROPPED)
