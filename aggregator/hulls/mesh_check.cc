@@ -1,83 +1,105 @@
 #include "aggregator/hulls/mesh_check.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
-#include <map>
-#include <unordered_map>
 #include <vector>
 
 namespace silnet::aggregator {
 
+namespace {
+
+// True if the triangle's indices are distinct and in range.
+bool ValidTriangle(const std::array<int32_t, 3>& t, int64_t num_vertices) {
+  bool ok = t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
+  for (int32_t v : t)
+    ok = ok && v >= 0 && v < num_vertices;
+  return ok;
+}
+
+// The number of links in `link` whose entry `member` is `vertex`.
+int CountLinks(const std::pair<int32_t, int32_t>* link, size_t size, int32_t vertex,
+               int32_t std::pair<int32_t, int32_t>::*member) {
+  int count = 0;
+  for (size_t k = 0; k < size; ++k)
+    count += link[k].*member == vertex ? 1 : 0;
+  return count;
+}
+
+}  // namespace
+
 MeshCheck CheckClosedManifold(const TriangleMesh& mesh) {
   MeshCheck check;
   const auto num_vertices = static_cast<int64_t>(mesh.vertices.size());
-  auto key = [](int64_t a, int64_t b) {
-    return static_cast<uint64_t>(a) << 32 | static_cast<uint64_t>(b);
-  };
-  // Directed edge -> number of triangles that run along it.
-  std::unordered_map<uint64_t, int> directed;
-  directed.reserve(mesh.triangles.size() * 3);
-  std::vector<uint8_t> referenced(mesh.vertices.size(), 0);
+  // Around vertex v, triangle (v, a, b) gives the link a -> b: edge v -> a leaves v, edge
+  // b -> v enters it. Links are stored per vertex (offsets into one array).
+  std::vector<uint32_t> offsets(mesh.vertices.size() + 1, 0);
   for (const auto& t : mesh.triangles) {
-    bool ok = t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
-    for (int32_t v : t)
-      ok = ok && v >= 0 && v < num_vertices;
-    if (!ok) {
+    if (!ValidTriangle(t, num_vertices)) {
       ++check.bad_indices;
       continue;
     }
-    for (int e = 0; e < 3; ++e) {
-      ++directed[key(t[static_cast<size_t>(e)], t[static_cast<size_t>((e + 1) % 3)])];
-      referenced[static_cast<size_t>(t[static_cast<size_t>(e)])] = 1;
-    }
+    for (int32_t v : t)
+      ++offsets[static_cast<size_t>(v) + 1];
+  }
+  for (size_t v = 0; v < mesh.vertices.size(); ++v)
+    offsets[v + 1] += offsets[v];
+  std::vector<std::pair<int32_t, int32_t>> links(offsets.back());
+  std::vector<uint32_t> fill(offsets.begin(), offsets.end() - 1);
+  for (const auto& t : mesh.triangles) {
+    if (!ValidTriangle(t, num_vertices)) continue;
+    for (size_t e = 0; e < 3; ++e)
+      links[fill[static_cast<size_t>(t[e])]++] = {t[(e + 1) % 3], t[(e + 2) % 3]};
   }
   size_t undirected_edges = 0;
-  for (const auto& [k, count] : directed) {
-    const int64_t a = static_cast<int64_t>(k >> 32), b = static_cast<int64_t>(k & 0xffffffffu);
-    const auto reverse = directed.find(key(b, a));
-    const int back = reverse == directed.end() ? 0 : reverse->second;
-    if (a < b || back == 0) ++undirected_edges;
-    if (a > b && back > 0) continue;  // counted from the other direction
-    const int total = count + back;
-    if (total == 1) {
-      ++check.open_edges;
-    } else if (total > 2) {
-      ++check.non_manifold_edges;
-    } else if (count != 1 || back != 1) {
-      ++check.misoriented_edges;
+  long used_vertices = 0;
+  std::vector<int32_t> neighbours;
+  for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const std::pair<int32_t, int32_t>* link = links.data() + offsets[v];
+    const size_t size = offsets[v + 1] - offsets[v];
+    if (size == 0) continue;
+    ++used_vertices;
+    // Each edge {v, u} is judged once, at its lower end, from v's own links.
+    neighbours.clear();
+    for (size_t k = 0; k < size; ++k) {
+      for (int32_t u : {link[k].first, link[k].second}) {
+        if (u > static_cast<int32_t>(v)) neighbours.push_back(u);
+      }
     }
-  }
-  // Fans: around vertex v, triangle (v, a, b) links a -> b; one cycle per manifold vertex.
-  std::vector<std::vector<std::pair<int32_t, int32_t>>> links(mesh.vertices.size());
-  for (const auto& t : mesh.triangles) {
-    bool ok = t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
-    for (int32_t v : t)
-      ok = ok && v >= 0 && v < num_vertices;
-    if (!ok) continue;
-    for (size_t e = 0; e < 3; ++e)
-      links[static_cast<size_t>(t[e])].emplace_back(t[(e + 1) % 3], t[(e + 2) % 3]);
-  }
-  for (const auto& link : links) {
-    if (link.empty()) continue;
-    std::map<int32_t, int32_t> next;
-    for (const auto& [a, b] : link)
-      next[a] = b;
-    if (next.size() != link.size()) {
-      ++check.non_manifold_vertices;
-      continue;
+    std::sort(neighbours.begin(), neighbours.end());
+    neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
+    undirected_edges += neighbours.size();
+    for (int32_t u : neighbours) {
+      const int out = CountLinks(link, size, u, &std::pair<int32_t, int32_t>::first);
+      const int back = CountLinks(link, size, u, &std::pair<int32_t, int32_t>::second);
+      if (out + back == 1) {
+        ++check.open_edges;
+      } else if (out + back > 2) {
+        ++check.non_manifold_edges;
+      } else if (out != 1 || back != 1) {
+        ++check.misoriented_edges;
+      }
     }
-    // Walk from the first link; a single fan visits every link before returning.
-    size_t steps = 0;
-    int32_t at = link.front().first;
-    do {
-      const auto it = next.find(at);
-      if (it == next.end()) break;
-      at = it->second;
-      ++steps;
-    } while (at != link.front().first && steps <= link.size());
-    if (steps != link.size() || at != link.front().first) ++check.non_manifold_vertices;
+    // One fan: every link's start is distinct, and following a -> b from the first link
+    // visits all of them before returning.
+    bool fan = true;
+    for (size_t k = 0; k < size && fan; ++k)
+      fan = CountLinks(link, size, link[k].first, &std::pair<int32_t, int32_t>::first) == 1;
+    if (fan) {
+      size_t steps = 0;
+      int32_t at = link[0].first;
+      do {
+        size_t k = 0;
+        while (k < size && link[k].first != at)
+          ++k;
+        if (k == size) break;
+        at = link[k].second;
+        ++steps;
+      } while (at != link[0].first && steps <= size);
+      fan = steps == size && at == link[0].first;
+    }
+    if (!fan) ++check.non_manifold_vertices;
   }
-  const auto used_vertices = static_cast<long>(std::count(referenced.begin(), referenced.end(), 1));
   check.euler_characteristic = used_vertices - static_cast<long>(undirected_edges) +
                                static_cast<long>(mesh.triangles.size() - check.bad_indices);
   if (check.bad_indices) {
