@@ -57,10 +57,17 @@ struct Trapezoid {
   Corner bottom_a, bottom_b, top_a, top_b;
 };
 
-// A face after the first pass: its trapezoids and the corners on each slab boundary.
+// A corner on one of a face's slab boundaries.
+struct BoundaryCorner {
+  double lambda = 0;
+  Corner corner;
+};
+
+// A face after the first pass: its trapezoids and the corners on its slab boundaries,
+// sorted by lambda, then w.
 struct FaceCorners {
   std::vector<Trapezoid> trapezoids;
-  std::unordered_map<double, std::vector<Corner>> boundary;  // lambda -> corners there
+  std::vector<BoundaryCorner> boundary;
 };
 
 // A point of a face's polygon in its chart.
@@ -156,11 +163,13 @@ TriangleMesh WeldCoincidentVertices(const std::vector<Eigen::Vector3d>& position
 // Assembles the mesh from the faces' regions (two passes: corners, then polygons).
 class HullAssembler {
  public:
-  explicit HullAssembler(const ConePlaneSet& set) : set_(set) {}
+  explicit HullAssembler(const ConePlaneSet& set) : set_(set), faces_(set.Planes().size()) {
+    ids_.reserve(8 * set.Planes().size());
+  }
 
   // Pass one: names the corners of every trapezoid of `region`.
   void AddCorners(const FaceRegion& region) {
-    FaceCorners& face = faces_[region.plane];
+    FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
     const ConePlane& plane = set_.Plane(region.plane);
     for (size_t s = 0; s < region.slabs.size(); ++s) {
       const ChartSlab& slab = region.slabs[s];
@@ -175,7 +184,7 @@ class HullAssembler {
           Corner c;
           c.w = chart_line.WAt(lambda);
           c.vertex = VertexFor(region, plane, chart_line.plane, lambda, c.w, boundary);
-          face.boundary[lambda].push_back(c);
+          face.boundary.push_back({lambda, c});
           return c;
         };
         t.bottom_a = corner(lo, t.a, static_cast<int>(s));
@@ -185,16 +194,19 @@ class HullAssembler {
         face.trapezoids.push_back(t);
       }
     }
-    for (auto& [lambda, corners] : face.boundary) {
-      std::sort(corners.begin(), corners.end(),
-                [](const Corner& x, const Corner& y) { return x.w < y.w; });
-    }
+    std::sort(face.boundary.begin(), face.boundary.end(),
+              [](const BoundaryCorner& x, const BoundaryCorner& y) {
+                return x.lambda < y.lambda || (x.lambda == y.lambda && x.corner.w < y.corner.w);
+              });
   }
+
+  // Ends pass one: indexes the cuts the faces made on their edges.
+  void IndexCuts() { std::sort(cuts_.begin(), cuts_.end()); }
 
   // Pass two: triangulates every trapezoid of `region`, its edges split wherever the
   // neighbouring faces have corners on them.
   void AddTriangles(const FaceRegion& region) {
-    const FaceCorners& face = faces_.at(region.plane);
+    const FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
     if (face.trapezoids.empty()) return;
     ++stats_.hull_faces;
     const ConePlane& plane = set_.Plane(region.plane);
@@ -202,29 +214,35 @@ class HullAssembler {
     for (const Trapezoid& t : face.trapezoids) {
       const ChartLine& lo = region.lines[static_cast<size_t>(t.lo)];
       const ChartLine& hi = region.lines[static_cast<size_t>(t.hi)];
-      std::vector<ChartVertex> polygon;
+      polygon_.clear();
       const auto push = [&](double lambda, double w, int vertex) {
-        if (polygon.empty() || polygon.back().vertex != vertex)
-          polygon.push_back({lambda, w, vertex});
+        if (polygon_.empty() || polygon_.back().vertex != vertex)
+          polygon_.push_back({lambda, w, vertex});
+      };
+      const auto push_side = [&](double lambda, const Corner& low, const Corner& high, bool down) {
+        SideCuts(face, lambda, low, high, down, side_);
+        for (const Corner& c : side_)
+          push(lambda, c.w, c.vertex);
       };
       push(t.a, t.bottom_a.w, t.bottom_a.vertex);
-      for (const ChartVertex& x : EdgeCuts(region, plane, lo, t, false))
+      EdgeCuts(region, plane, lo, t, false, edge_);
+      for (const ChartVertex& x : edge_)
         push(x.lambda, x.w, x.vertex);
       push(t.b, t.bottom_b.w, t.bottom_b.vertex);
-      for (const Corner& c : SideCuts(face, t.b, t.bottom_b, t.top_b, false))
-        push(t.b, c.w, c.vertex);
+      push_side(t.b, t.bottom_b, t.top_b, false);
       push(t.b, t.top_b.w, t.top_b.vertex);
-      for (const ChartVertex& x : EdgeCuts(region, plane, hi, t, true))
+      EdgeCuts(region, plane, hi, t, true, edge_);
+      for (const ChartVertex& x : edge_)
         push(x.lambda, x.w, x.vertex);
       push(t.a, t.top_a.w, t.top_a.vertex);
-      for (const Corner& c : SideCuts(face, t.a, t.bottom_a, t.top_a, true))
-        push(t.a, c.w, c.vertex);
-      if (polygon.size() > 1 && polygon.back().vertex == polygon.front().vertex) polygon.pop_back();
+      push_side(t.a, t.bottom_a, t.top_a, true);
+      if (polygon_.size() > 1 && polygon_.back().vertex == polygon_.front().vertex)
+        polygon_.pop_back();
       const auto add_vertex = [&](double lambda, double w) {
         positions_.push_back(region.Point(lambda, w));
         return static_cast<int>(positions_.size()) - 1;
       };
-      TriangulateConvex(polygon, reverse, add_vertex, triangles_);
+      TriangulateConvex(polygon_, reverse, add_vertex, triangles_);
     }
   }
 
@@ -238,7 +256,6 @@ class HullAssembler {
   // The vertex of a corner on line `line` at `lambda` (slab boundary `boundary`).
   int VertexFor(const FaceRegion& region, const ConePlane& plane, int line, double lambda, double w,
                 int boundary) {
-    const Eigen::Vector3d position = region.Point(lambda, w);
     std::optional<VertexKey> key;
     if (lambda == 0) key = Triple(region.plane, plane.prev, line);
     if (lambda == 1) key = Triple(region.plane, plane.next, line);
@@ -258,9 +275,9 @@ class HullAssembler {
     if (cut) key = VertexKey{region.plane, line, -boundary - 1};
     const auto [it, inserted] = ids_.try_emplace(*key, static_cast<int>(positions_.size()));
     if (inserted) {
-      positions_.push_back(position);
+      positions_.push_back(region.Point(lambda, w));
       Count(*key);
-      if (cut) cuts_[EdgeKey(region.plane, line)].push_back(it->second);
+      if (cut) cuts_.emplace_back(EdgeKey(region.plane, line), it->second);
     }
     return it->second;
   }
@@ -281,39 +298,42 @@ class HullAssembler {
   }
 
   // The cuts the face of `line` made on its edge with this face, strictly inside the
-  // trapezoid's span, in polygon order (increasing lambda below, decreasing above).
-  std::vector<ChartVertex> EdgeCuts(const FaceRegion& region, const ConePlane& plane,
-                                    const ChartLine& line, const Trapezoid& t, bool top) const {
-    std::vector<ChartVertex> out;
-    const auto it = cuts_.find(EdgeKey(line.plane, region.plane));
-    if (it == cuts_.end()) return out;
+  // trapezoid's span, in polygon order (increasing lambda below, decreasing above), into `out`.
+  void EdgeCuts(const FaceRegion& region, const ConePlane& plane, const ChartLine& line,
+                const Trapezoid& t, bool top, std::vector<ChartVertex>& out) const {
+    out.clear();
+    const uint64_t key = EdgeKey(line.plane, region.plane);
+    auto it = std::lower_bound(cuts_.begin(), cuts_.end(), std::pair<uint64_t, int>(key, -1));
+    if (it == cuts_.end() || it->first != key) return;
     const Matrix34d& P = set_.Projection(plane.view);
     const Eigen::Vector2d edge = plane.q - plane.p;
-    for (int vertex : it->second) {
+    for (; it != cuts_.end() && it->first == key; ++it) {
       const Eigen::Vector2d x =
-          (P * positions_[static_cast<size_t>(vertex)].homogeneous()).hnormalized();
+          (P * positions_[static_cast<size_t>(it->second)].homogeneous()).hnormalized();
       const double lambda = (x - plane.p).dot(edge) / edge.squaredNorm();
-      if (lambda > t.a && lambda < t.b) out.push_back({lambda, line.WAt(lambda), vertex});
+      if (lambda > t.a && lambda < t.b) out.push_back({lambda, line.WAt(lambda), it->second});
     }
     std::sort(out.begin(), out.end(), [top](const ChartVertex& x, const ChartVertex& y) {
       return top ? x.lambda > y.lambda : x.lambda < y.lambda;
     });
-    return out;
   }
 
-  // Corners of the face's other trapezoids on a vertical side strictly between `lo` and
-  // `hi`, upwards (or downwards if `down`).
-  static std::vector<Corner> SideCuts(const FaceCorners& face, double lambda, const Corner& lo,
-                                      const Corner& hi, bool down) {
-    std::vector<Corner> out;
-    for (const Corner& c : face.boundary.at(lambda)) {
+  // Corners of the face's other trapezoids on the vertical side at `lambda` strictly between
+  // `lo` and `hi`, upwards (or downwards if `down`), into `out`.
+  static void SideCuts(const FaceCorners& face, double lambda, const Corner& lo, const Corner& hi,
+                       bool down, std::vector<Corner>& out) {
+    out.clear();
+    const auto first =
+        std::lower_bound(face.boundary.begin(), face.boundary.end(), lambda,
+                         [](const BoundaryCorner& c, double value) { return c.lambda < value; });
+    for (auto it = first; it != face.boundary.end() && it->lambda == lambda; ++it) {
+      const Corner& c = it->corner;
       if (c.w > lo.w && c.w < hi.w && c.vertex != lo.vertex && c.vertex != hi.vertex &&
           (out.empty() || out.back().vertex != c.vertex)) {
         out.push_back(c);
       }
     }
     if (down) std::reverse(out.begin(), out.end());
-    return out;
   }
 
   // True if counter-clockwise chart polygons face out of the hull.
@@ -331,9 +351,11 @@ class HullAssembler {
   }
 
   const ConePlaneSet& set_;
-  std::unordered_map<int, FaceCorners> faces_;
+  std::vector<FaceCorners> faces_;  // by plane
   std::unordered_map<VertexKey, int, VertexKeyHash> ids_;
-  std::unordered_map<uint64_t, std::vector<int>> cuts_;
+  std::vector<std::pair<uint64_t, int>> cuts_;  // (EdgeKey(face, line), vertex), sorted
+  std::vector<ChartVertex> polygon_, edge_;     // scratch of AddTriangles
+  std::vector<Corner> side_;
   std::vector<Eigen::Vector3d> positions_;
   std::vector<std::array<int32_t, 3>> triangles_;
   PolyhedralHullStats stats_;
@@ -393,6 +415,7 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     assembler.AddCorners(region);
     regions.push_back(std::move(region));
   }
+  assembler.IndexCuts();
   for (const FaceRegion& region : regions)
     assembler.AddTriangles(region);
   result.mesh = assembler.Mesh(kWeldTolerance * bounds.diagonal().norm());
