@@ -449,6 +449,8 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
   box.max() += pad;
   ContourOptions contour_options;
   contour_options.tolerance_px = options.contour_tolerance_px;
+  contour_options.smoothing_passes = options.contour_smoothing_passes;
+  contour_options.boundary_offset_px = options.contour_offset_px;
   std::vector<SilhouetteContours> contours;
   contours.reserve(masks.size());
   for (const cv::Mat& mask : masks)

@@ -44,7 +44,12 @@ struct PolyhedralHullResult {
 // Settings of the computation.
 struct PolyhedralHullOptions {
   double contour_tolerance_px = 0.5;  // Douglas-Peucker tolerance of the contours from masks
-  double bounds_padding = 0.05;       // viewing-cone bounds are grown by this fraction per side
+  // The mask outlines are smoothed along the ring this often before simplifying (fewer cone
+  // faces for the same tolerance) and placed this far outside the boundary pixel centres
+  // (slightly beyond the pixel edges, so the simplified outline still covers them).
+  int contour_smoothing_passes = 1;
+  double contour_offset_px = 0.6;
+  double bounds_padding = 0.05;  // viewing-cone bounds are grown by this fraction per side
 };
 
 // Builds the hull from one silhouette outline per camera (pixels of the camera's image, as

@@ -9,10 +9,12 @@
 namespace silnet {
 namespace {
 
-// Moves the points of a ring traced through boundary pixel centres onto the boundary: half a
-// lattice step along the normal towards the background, `side` = +1 when the background lies
-// to the right of the traced direction (pixel coordinates), -1 when to the left.
-std::vector<cv::Point2f> OffsetToBoundary(const std::vector<cv::Point>& ring, double side) {
+// Moves the points of a ring traced through boundary pixel centres onto the boundary: `offset`
+// lattice steps (half of one puts it on the pixel edges) along the normal towards the
+// background, `side` = +1 when the background lies to the right of the traced direction
+// (pixel coordinates), -1 when to the left.
+std::vector<cv::Point2f> OffsetToBoundary(const std::vector<cv::Point>& ring, double side,
+                                          float offset) {
   const size_t n = ring.size();
   std::vector<cv::Point2f> out(n);
   for (size_t i = 0; i < n; ++i) {
@@ -26,11 +28,24 @@ std::vector<cv::Point2f> OffsetToBoundary(const std::vector<cv::Point>& ring, do
     const float length = std::hypot(tangent.x, tangent.y);
     cv::Point2f normal(0, 0);
     if (length > 0) normal = cv::Point2f(-tangent.y, tangent.x) * static_cast<float>(side / length);
-    const float step = 0.5f / std::max(1.0f, std::abs(normal.x) + std::abs(normal.y));
+    const float step = offset / std::max(1.0f, std::abs(normal.x) + std::abs(normal.y));
     out[i] =
         cv::Point2f(static_cast<float>(ring[i].x), static_cast<float>(ring[i].y)) + normal * step;
   }
   return out;
+}
+
+// Replaces every point of a closed ring by the [1 2 1] / 4 average with its neighbours,
+// `passes` times: the pixel staircase's zig-zag shrinks, so simplification keeps fewer points.
+void SmoothRing(std::vector<cv::Point2f>& ring, int passes) {
+  const size_t n = ring.size();
+  if (n < 3) return;
+  std::vector<cv::Point2f> smoothed(n);
+  for (int pass = 0; pass < passes; ++pass) {
+    for (size_t i = 0; i < n; ++i)
+      smoothed[i] = 0.25f * (ring[(i + n - 1) % n] + ring[(i + 1) % n]) + 0.5f * ring[i];
+    ring.swap(smoothed);
+  }
 }
 
 std::vector<Eigen::Vector2f> Simplify(const std::vector<cv::Point2f>& ring, double tolerance) {
@@ -102,7 +117,10 @@ SilhouetteContours ExtractContours(const cv::Mat& mask, const ContourOptions& op
       // For an outer ring the background is outside; for a hole, inside the traced ring.
       double side = traced >= 0 ? -1.0 : 1.0;
       if (hole) side = -side;
-      return OffsetToBoundary(ring, side);
+      std::vector<cv::Point2f> boundary =
+          OffsetToBoundary(ring, side, static_cast<float>(options.boundary_offset_px));
+      SmoothRing(boundary, options.smoothing_passes);
+      return boundary;
     };
     ContourPolygon polygon;
     polygon.outer = Simplify(to_boundary(rings[i], false), options.tolerance_px);

@@ -3,8 +3,9 @@
 // precision, simplified to a tolerance (DESIGN.md "Contour").
 //
 // Outer rings are in positive orientation (like SilhouetteHull), holes in negative
-// orientation. Points lie on the estimated silhouette boundary, half a lattice step outside
-// the boundary pixel centres (0.5 px across axis-aligned edges, 0.35 px across diagonal ones).
+// orientation. By default points lie on the estimated silhouette boundary, half a lattice
+// step outside the boundary pixel centres (0.5 px across axis-aligned edges, 0.35 px across
+// diagonal ones); options can place them further out and smooth the pixel staircase first.
 
 #include <Eigen/Core>
 #include <opencv2/core/mat.hpp>
@@ -29,9 +30,11 @@ struct SilhouetteContours {
 
 // Options of contour extraction.
 struct ContourOptions {
-  double tolerance_px = 0.5;     // Douglas-Peucker simplification tolerance
-  double min_region_area = 4.0;  // drop regions smaller than this (square pixels)
-  double min_hole_area = 4.0;    // drop holes smaller than this
+  double tolerance_px = 0.5;        // Douglas-Peucker simplification tolerance
+  double min_region_area = 4.0;     // drop regions smaller than this (square pixels)
+  double min_hole_area = 4.0;       // drop holes smaller than this
+  double boundary_offset_px = 0.5;  // outline's distance outside the boundary pixel centres
+  int smoothing_passes = 0;         // [1 2 1] / 4 passes along the ring before simplifying
 };
 
 // Extracts the outline of the nonzero pixels of a CV_8UC1 mask.
