@@ -39,16 +39,70 @@ Eigen::Vector2d ClippedEndpoint(const ViewMapping& mapping, const Eigen::Vector2
   return c;
 }
 
+// The homography from the face's chart (lambda, w, 1) to `view`'s undistorted image.
+Eigen::Matrix3d ChartToImage(const ConePlaneSet& set, int view, const FaceRegion& region) {
+  const Matrix34d& P = set.Projection(view);
+  const Eigen::Matrix3d M = P.leftCols<3>();
+  Eigen::Matrix3d to_image;
+  to_image.col(0) = M * (region.d_q - region.d_p);
+  to_image.col(1) = P * region.centre.homogeneous();
+  to_image.col(2) = M * region.d_p;
+  return to_image;
+}
+
+// Clips the convex chart polygon `polygon` to the half-plane side . (lambda, w, 1) >= 0;
+// `scratch` is reused.
+void ClipConvex(std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector3d& side,
+                std::vector<Eigen::Vector2d>& scratch) {
+  scratch.clear();
+  const size_t n = polygon.size();
+  for (size_t k = 0; k < n; ++k) {
+    const Eigen::Vector2d& a = polygon[k];
+    const Eigen::Vector2d& b = polygon[(k + 1) % n];
+    const double ha = side.dot(a.homogeneous()), hb = side.dot(b.homogeneous());
+    if (ha >= 0) scratch.push_back(a);
+    if ((ha >= 0) != (hb >= 0)) scratch.push_back(a + (ha / (ha - hb)) * (b - a));
+  }
+  polygon.swap(scratch);
+}
+
+// Narrows the chart's w-range to the part of the wedge that projects inside every other view's
+// silhouette octagon (the region lies strictly inside it, the octagons having a margin).
+// Returns false if no part does: the face has no region.
+bool NarrowToSilhouetteBounds(const ConePlaneSet& set, int face_view, FaceRegion& region,
+                              std::vector<Eigen::Vector2d>& polygon,
+                              std::vector<Eigen::Vector2d>& scratch) {
+  polygon.assign({{0, region.w_min}, {1, region.w_min}, {1, region.w_max}, {0, region.w_max}});
+  for (size_t v = 0; v < set.Views() && polygon.size() >= 3; ++v) {
+    if (static_cast<int>(v) == face_view) continue;
+    const Eigen::Matrix3d to_image = ChartToImage(set, static_cast<int>(v), region);
+    // The image's scale (third row) must be positive over the chart for the half-planes to
+    // keep their sides; where it is not, AddViewLines reports the camera.
+    bool in_front = true;
+    for (const Eigen::Vector2d& corner : polygon)
+      in_front = in_front && to_image.row(2).dot(corner.homogeneous()) > 0;
+    if (!in_front) continue;
+    for (const Eigen::Vector3d& side : set.BoundingOctagon(static_cast<int>(v)))
+      ClipConvex(polygon, to_image.transpose() * side, scratch);
+  }
+  if (polygon.size() < 3) return false;
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (const Eigen::Vector2d& x : polygon) {
+    low = std::min(low, x.y());
+    high = std::max(high, x.y());
+  }
+  if (!(high > low)) return false;
+  region.w_min = std::max(region.w_min, low);
+  region.w_max = std::min(region.w_max, high);
+  return true;
+}
+
 // Builds the lines of one other view's contour edges that cross the chart box, and the events
 // they cause. Returns false if the box is not entirely in front of that camera.
 bool AddViewLines(const ConePlaneSet& set, int face_view, int view, FaceRegion& region,
                   bool& corner_inside, std::vector<int>& candidates) {
-  const Matrix34d& P = set.Projection(view);
-  const Eigen::Matrix3d M = P.leftCols<3>();
   ViewMapping mapping;
-  mapping.to_image.col(0) = M * (region.d_q - region.d_p);
-  mapping.to_image.col(1) = P * region.centre.homogeneous();
-  mapping.to_image.col(2) = M * region.d_p;
+  mapping.to_image = ChartToImage(set, view, region);
   mapping.to_chart = mapping.to_image.inverse();
   const auto image_of = [&](double lambda, double w) {
     return Eigen::Vector3d(mapping.to_image * Eigen::Vector3d(lambda, w, 1));
@@ -102,6 +156,8 @@ bool AddViewLines(const ConePlaneSet& set, int face_view, int view, FaceRegion& 
     line.view = view;
     line.coefficients =
         mapping.to_image.transpose() * plane.p.homogeneous().cross(plane.q.homogeneous());
+    line.slope = -line.coefficients.x() / line.coefficients.y();
+    line.intercept = -line.coefficients.z() / line.coefficients.y();
     line.lambda_lo = std::min(a.x(), b.x());
     line.lambda_hi = std::max(a.x(), b.x());
     line.w_lo = std::min(a.y(), b.y());
@@ -123,15 +179,30 @@ bool AddViewLines(const ConePlaneSet& set, int face_view, int view, FaceRegion& 
 // An interval bound: w and the line there (-1 for the chart box).
 using Bound = std::pair<double, int>;
 
+// One view's lines: FaceRegion::lines[begin, end).
+struct LineRange {
+  int begin = 0, end = 0;
+};
+
+// Buffers a face's computation reuses (one set per thread).
+struct FaceScratch {
+  std::vector<int> candidates, order;
+  std::vector<Bound> bounds, crossings, view_bounds, merged;
+  std::vector<double> cuts;
+  std::vector<LineRange> view_lines;
+  std::vector<Eigen::Vector2d> polygon, clipped;
+  std::vector<char> corner_inside;
+};
+
 // The w-intervals inside one view's silhouette along the vertical chart line at `lambda`,
 // into `bounds`: entries 2k and 2k + 1 bound the k-th interval. `crossings` is scratch.
-void ViewIntervals(const FaceRegion& region, const std::vector<int>& lines, bool inside,
-                   double lambda, std::vector<Bound>& crossings, std::vector<Bound>& bounds) {
+void ViewIntervals(const FaceRegion& region, LineRange lines, bool inside, double lambda,
+                   std::vector<Bound>& crossings, std::vector<Bound>& bounds) {
   crossings.clear();
   bounds.clear();
-  for (int index : lines) {
+  for (int index = lines.begin; index < lines.end; ++index) {
     const ChartLine& line = region.lines[static_cast<size_t>(index)];
-    if (line.bottom_crossing >= 0 && line.bottom_crossing < lambda) inside = !inside;
+    inside ^= line.bottom_crossing >= 0 && line.bottom_crossing < lambda;
     if (line.lambda_lo < lambda && lambda < line.lambda_hi) {
       const double w = line.WAt(lambda);
       if (w > region.w_min && w < region.w_max) crossings.emplace_back(w, index);
@@ -178,42 +249,57 @@ double Crossing(const ChartLine& f, const ChartLine& g) {
   return lambda;
 }
 
-// True if chart point (lambda, w) lies inside the silhouette of the view with these lines.
-bool InsideView(const FaceRegion& region, const std::vector<int>& lines, bool inside, double lambda,
-                double w) {
-  for (int index : lines) {
+// True if chart point (lambda, w) lies inside the silhouette of the view with these lines
+// (`inside`: whether the chart's corner (0, w_min) is). Counts crossings without branches.
+bool InsideView(const FaceRegion& region, LineRange lines, bool inside, double lambda, double w) {
+  unsigned parity = inside ? 1u : 0u;
+  for (int index = lines.begin; index < lines.end; ++index) {
     const ChartLine& line = region.lines[static_cast<size_t>(index)];
-    if (line.bottom_crossing >= 0 && line.bottom_crossing < lambda) inside = !inside;
-    if (line.lambda_lo < lambda && lambda < line.lambda_hi && line.WAt(lambda) < w)
-      inside = !inside;
+    parity ^= static_cast<unsigned>(line.bottom_crossing >= 0) &
+              static_cast<unsigned>(line.bottom_crossing < lambda);
+    parity ^= static_cast<unsigned>(line.lambda_lo < lambda) &
+              static_cast<unsigned>(lambda < line.lambda_hi) &
+              static_cast<unsigned>(line.WAt(lambda) < w);
   }
-  return inside;
+  return parity != 0;
+}
+
+// True if chart point (lambda, w) lies inside every view's silhouette but views `skip_a` and
+// `skip_b`.
+bool InsideOtherViews(const FaceRegion& region, const FaceScratch& scratch, int skip_a, int skip_b,
+                      double lambda, double w) {
+  for (size_t v = 0; v < scratch.view_lines.size(); ++v) {
+    const int view = static_cast<int>(v);
+    if (view != skip_a && view != skip_b &&
+        !InsideView(region, scratch.view_lines[v], scratch.corner_inside[v] != 0, lambda, w))
+      return false;
+  }
+  return true;
 }
 
 // Adds the crossings of two views' lines that lie inside every other view: the only
 // crossings where the region can gain or lose a vertex (triple points, and the lambdas
 // where an interval is born or dies).
-void AddCrossingEvents(FaceRegion& region, const std::vector<std::vector<int>>& view_lines,
-                       const std::vector<bool>& corner_inside) {
-  std::vector<const ChartLine*> by_w;
-  for (const ChartLine& line : region.lines)
-    by_w.push_back(&line);
-  std::sort(by_w.begin(), by_w.end(),
-            [](const ChartLine* x, const ChartLine* y) { return x->w_lo < y->w_lo; });
+void AddCrossingEvents(FaceRegion& region, FaceScratch& scratch) {
+  std::vector<int>& by_w = scratch.order;
+  by_w.resize(region.lines.size());
+  for (size_t l = 0; l < by_w.size(); ++l)
+    by_w[l] = static_cast<int>(l);
+  const std::vector<ChartLine>& lines = region.lines;
+  std::sort(by_w.begin(), by_w.end(), [&lines](int x, int y) {
+    return lines[static_cast<size_t>(x)].w_lo < lines[static_cast<size_t>(y)].w_lo;
+  });
   for (size_t f = 0; f < by_w.size(); ++f) {
-    const ChartLine& first = *by_w[f];
-    for (size_t g = f + 1; g < by_w.size() && by_w[g]->w_lo <= first.w_hi; ++g) {
-      const ChartLine& second = *by_w[g];
+    const ChartLine& first = lines[static_cast<size_t>(by_w[f])];
+    for (size_t g = f + 1; g < by_w.size(); ++g) {
+      const ChartLine& second = lines[static_cast<size_t>(by_w[g])];
+      if (second.w_lo > first.w_hi) break;
       if (first.view == second.view) continue;
       const double lambda = Crossing(first, second);
       if (lambda <= 0 || lambda >= 1) continue;
       const double w = first.WAt(lambda);
-      bool inside = true;
-      for (size_t v = 0; v < view_lines.size() && inside; ++v) {
-        if (static_cast<int>(v) == first.view || static_cast<int>(v) == second.view) continue;
-        inside = InsideView(region, view_lines[v], corner_inside[v], lambda, w);
-      }
-      if (inside) region.events.push_back({lambda, w, first.plane, second.plane});
+      if (InsideOtherViews(region, scratch, first.view, second.view, lambda, w))
+        region.events.push_back({lambda, w, first.plane, second.plane});
     }
   }
 }
@@ -243,60 +329,56 @@ FaceRegion ComputeFaceRegion(const std::vector<CameraModel>& cameras, const Cone
   region.w_min = 1 / depth_max;
   region.w_max = 1 / depth_min;
 
-  std::vector<std::vector<int>> view_lines(cameras.size());
-  std::vector<int> candidates;
-  std::vector<bool> corner_inside(cameras.size(), true);
+  thread_local FaceScratch scratch;
+  if (!NarrowToSilhouetteBounds(set, plane.view, region, scratch.polygon, scratch.clipped)) {
+    region.success = true;  // the face lies outside some camera's cone
+    return region;
+  }
+  scratch.view_lines.assign(cameras.size(), LineRange{});
+  scratch.corner_inside.assign(cameras.size(), 1);
+  region.lines.reserve(64);
   for (size_t v = 0; v < cameras.size(); ++v) {
     if (static_cast<int>(v) == plane.view) continue;
-    const size_t first = region.lines.size();
+    const int first = static_cast<int>(region.lines.size());
     bool inside = false;
-    if (!AddViewLines(set, plane.view, static_cast<int>(v), region, inside, candidates)) {
+    if (!AddViewLines(set, plane.view, static_cast<int>(v), region, inside, scratch.candidates)) {
       region.reason = fmt::format("the hull's bounds are not in front of camera {}", cameras[v].id);
       return region;
     }
-    if (first == region.lines.size() && !inside) {
+    const int last = static_cast<int>(region.lines.size());
+    if (first == last && !inside) {
       region.success = true;  // this face lies entirely outside camera v's cone
       region.lines.clear();
       region.events.clear();
       return region;
     }
-    corner_inside[v] = inside;
-    for (size_t l = first; l < region.lines.size(); ++l)
-      view_lines[v].push_back(static_cast<int>(l));
+    scratch.corner_inside[v] = inside ? 1 : 0;
+    scratch.view_lines[v] = {first, last};
   }
 
   // A contour vertex of another view changes the region only if it lies inside the rest.
   std::erase_if(region.events, [&](const ChartEvent& event) {
-    const int view = set.Plane(event.first).view;
-    for (size_t v = 0; v < view_lines.size(); ++v) {
-      if (static_cast<int>(v) != view &&
-          !InsideView(region, view_lines[v], corner_inside[v], event.lambda, event.w))
-        return true;
-    }
-    return false;
+    return !InsideOtherViews(region, scratch, set.Plane(event.first).view, plane.view, event.lambda,
+                             event.w);
   });
-  AddCrossingEvents(region, view_lines, corner_inside);
-  std::vector<double> cuts = {0, 1};
+  AddCrossingEvents(region, scratch);
+  std::vector<double>& cuts = scratch.cuts;
+  cuts.assign({0.0, 1.0});
   for (const ChartEvent& event : region.events)
     cuts.push_back(event.lambda);
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
-  std::vector<Bound> bounds, crossings, view_bounds, merged;
-  std::vector<std::pair<double, double>> pending;
-  for (size_t k = 0; k + 1 < cuts.size(); ++k)
-    pending.emplace_back(cuts[k], cuts[k + 1]);
-  std::reverse(pending.begin(), pending.end());
-
-  while (!pending.empty()) {
-    const auto [a, b] = pending.back();
-    pending.pop_back();
+  std::vector<Bound>& bounds = scratch.bounds;
+  for (size_t k = 0; k + 1 < cuts.size(); ++k) {
+    const double a = cuts[k], b = cuts[k + 1];
     const double middle = 0.5 * (a + b);
     bounds.assign({{region.w_min, -1}, {region.w_max, -1}});
     for (size_t v = 0; v < cameras.size() && !bounds.empty(); ++v) {
       if (static_cast<int>(v) == plane.view) continue;
-      ViewIntervals(region, view_lines[v], corner_inside[v], middle, crossings, view_bounds);
-      IntersectIntervals(bounds, view_bounds, merged);
-      bounds.swap(merged);
+      ViewIntervals(region, scratch.view_lines[v], scratch.corner_inside[v] != 0, middle,
+                    scratch.crossings, scratch.view_bounds);
+      IntersectIntervals(bounds, scratch.view_bounds, scratch.merged);
+      bounds.swap(scratch.merged);
     }
     for (const auto& bound : bounds) {
       if (bound.second < 0) {
@@ -304,14 +386,22 @@ FaceRegion ComputeFaceRegion(const std::vector<CameraModel>& cameras, const Cone
         return region;
       }
     }
-    ChartSlab slab{a, b, {}};
-    for (size_t k = 0; k + 1 < bounds.size(); k += 2)
-      slab.intervals.emplace_back(bounds[k].second, bounds[k + 1].second);
-    if (!region.slabs.empty() && region.slabs.back().intervals == slab.intervals) {
+    const auto same_intervals = [&bounds](const ChartSlab& slab) {
+      if (2 * slab.intervals.size() != bounds.size()) return false;
+      for (size_t i = 0; i < slab.intervals.size(); ++i) {
+        if (slab.intervals[i].first != bounds[2 * i].second ||
+            slab.intervals[i].second != bounds[2 * i + 1].second)
+          return false;
+      }
+      return true;
+    };
+    if (!region.slabs.empty() && same_intervals(region.slabs.back())) {
       region.slabs.back().lambda_b = b;
-    } else {
-      region.slabs.push_back(std::move(slab));
+      continue;
     }
+    ChartSlab& slab = region.slabs.emplace_back(ChartSlab{a, b, {}});
+    for (size_t i = 0; i + 1 < bounds.size(); i += 2)
+      slab.intervals.emplace_back(bounds[i].second, bounds[i + 1].second);
   }
   std::sort(region.events.begin(), region.events.end(),
             [](const ChartEvent& x, const ChartEvent& y) { return x.lambda < y.lambda; });

@@ -30,14 +30,13 @@ struct ChartLine {
   int plane = -1;
   int view = -1;
   Eigen::Vector3d coefficients;
+  double slope = 0, intercept = 0;  // w = slope * lambda + intercept along the line
   double lambda_lo = 0, lambda_hi = 0;
   double w_lo = 0, w_hi = 0;    // the span's w-range
   double bottom_crossing = -1;  // lambda where it crosses w = w_min, or -1
 
   // The w of the line at `lambda`.
-  double WAt(double lambda) const {
-    return -(coefficients.x() * lambda + coefficients.z()) / coefficients.y();
-  }
+  double WAt(double lambda) const { return slope * lambda + intercept; }
 };
 
 // A point (lambda, w) where the region's structure may change: a contour vertex between

@@ -3,11 +3,34 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace silnet::aggregator {
 namespace {
 
 constexpr double kRowStepPx = 4.0;
+// Margin of the silhouettes' bounding octagons, pixels.
+constexpr double kOctagonMarginPx = 1.0;
+
+// The bounding octagon of a view's contour points, grown by the margin.
+std::array<Eigen::Vector3d, 8> OctagonAround(const std::vector<ConePlane>& planes,
+                                             const std::vector<int>& view_planes) {
+  // Directions n of the eight sides; the octagon is n . x <= max over the points.
+  const double r = std::sqrt(0.5);
+  const std::array<Eigen::Vector2d, 8> directions = {
+      Eigen::Vector2d(1, 0),  Eigen::Vector2d(-1, 0), Eigen::Vector2d(0, 1),
+      Eigen::Vector2d(0, -1), Eigen::Vector2d(r, r),  Eigen::Vector2d(-r, -r),
+      Eigen::Vector2d(r, -r), Eigen::Vector2d(-r, r)};
+  std::array<Eigen::Vector3d, 8> sides;
+  for (size_t k = 0; k < directions.size(); ++k) {
+    double extent = -std::numeric_limits<double>::infinity();
+    for (int index : view_planes)
+      extent = std::max(extent, directions[k].dot(planes[static_cast<size_t>(index)].p));
+    // Inside where extent + margin - n . x >= 0.
+    sides[k] = Eigen::Vector3d(-directions[k].x(), -directions[k].y(), extent + kOctagonMarginPx);
+  }
+  return sides;
+}
 // Ranges wider than this (radians) are not trusted: the edge may pass the epipole.
 constexpr double kWidestArc = 1.0;
 
@@ -73,6 +96,7 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
       }
     }
     rows_.push_back(std::move(rows));
+    octagons_.push_back(OctagonAround(planes_, view_planes_[v]));
   }
 
   pairs_.resize(views * views);

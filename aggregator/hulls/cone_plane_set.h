@@ -6,6 +6,7 @@
 // for point-in-silhouette tests.
 
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "aggregator/hulls/voxel_grid.h"
@@ -44,6 +45,11 @@ class ConePlaneSet {
   const Matrix34d& Projection(int view) const { return projections_[static_cast<size_t>(view)]; }
   // World direction of the ray through an undistorted pixel of `view`, at unit depth.
   Eigen::Vector3d Ray(int view, const Eigen::Vector2d& pixel) const;
+  // Eight half-planes (line . (x, y, 1) >= 0 inside) bounding `view`'s silhouette in
+  // undistorted pixels with a margin of one pixel: its bounding octagon (axes and diagonals).
+  const std::array<Eigen::Vector3d, 8>& BoundingOctagon(int view) const {
+    return octagons_[static_cast<size_t>(view)];
+  }
   // True if an undistorted pixel of `view` lies inside its silhouette (even-odd rule).
   bool Contains(int view, const Eigen::Vector2d& pixel) const;
   // Appends the planes of camera `other` whose epipolar range about the baseline to camera
@@ -69,6 +75,7 @@ class ConePlaneSet {
   std::vector<Matrix34d> projections_;
   std::vector<Eigen::Matrix3d> pixel_to_ray_;
   std::vector<RowIndex> rows_;
+  std::vector<std::array<Eigen::Vector3d, 8>> octagons_;
   std::vector<PairIndex> pairs_;  // [view * Views() + other]
 };
 
