@@ -192,6 +192,7 @@ struct FaceScratch {
   std::vector<LineRange> view_lines;
   std::vector<Eigen::Vector2d> polygon, clipped;
   std::vector<char> corner_inside;
+  int last_rejecting = -1;  // the view InsideOtherViews tries first
 };
 
 // The w-intervals inside one view's silhouette along the vertical chart line at `lambda`,
@@ -265,14 +266,22 @@ bool InsideView(const FaceRegion& region, LineRange lines, bool inside, double l
 }
 
 // True if chart point (lambda, w) lies inside every view's silhouette but views `skip_a` and
-// `skip_b`.
-bool InsideOtherViews(const FaceRegion& region, const FaceScratch& scratch, int skip_a, int skip_b,
+// `skip_b`. The view that last rejected a point is tried first: it usually rejects the next.
+bool InsideOtherViews(const FaceRegion& region, FaceScratch& scratch, int skip_a, int skip_b,
                       double lambda, double w) {
+  const auto outside = [&](int view) {
+    const auto v = static_cast<size_t>(view);
+    return view != skip_a && view != skip_b &&
+           !InsideView(region, scratch.view_lines[v], scratch.corner_inside[v] != 0, lambda, w);
+  };
+  const int first = scratch.last_rejecting;
+  if (first >= 0 && outside(first)) return false;
   for (size_t v = 0; v < scratch.view_lines.size(); ++v) {
     const int view = static_cast<int>(v);
-    if (view != skip_a && view != skip_b &&
-        !InsideView(region, scratch.view_lines[v], scratch.corner_inside[v] != 0, lambda, w))
+    if (view != first && outside(view)) {
+      scratch.last_rejecting = view;
       return false;
+    }
   }
   return true;
 }
@@ -336,6 +345,7 @@ FaceRegion ComputeFaceRegion(const std::vector<CameraModel>& cameras, const Cone
   }
   scratch.view_lines.assign(cameras.size(), LineRange{});
   scratch.corner_inside.assign(cameras.size(), 1);
+  scratch.last_rejecting = -1;
   region.lines.reserve(64);
   for (size_t v = 0; v < cameras.size(); ++v) {
     if (static_cast<int>(v) == plane.view) continue;

@@ -31,8 +31,19 @@ std::array<Eigen::Vector3d, 8> OctagonAround(const std::vector<ConePlane>& plane
   }
   return sides;
 }
-// Ranges wider than this (radians) are not trusted: the edge may pass the epipole.
-constexpr double kWidestArc = 1.0;
+
+// Ranges wider than this (pseudo-angle units, 0.8 to 1.6 rad) are not trusted: the edge may
+// pass the epipole.
+constexpr double kWidestArc = 0.8;
+
+// A stand-in for atan2(y, x) on (-2, 2] with the same order, without trigonometry.
+double PseudoAngle(double y, double x) {
+  const double sum = std::abs(x) + std::abs(y);
+  if (sum == 0) return 0;
+  const double p = y / sum;
+  if (x >= 0) return p;
+  return y >= 0 ? 2 - p : -2 - p;
+}
 
 }  // namespace
 
@@ -133,7 +144,7 @@ Eigen::Vector3d ConePlaneSet::Ray(int view, const Eigen::Vector2d& pixel) const 
 }
 
 double ConePlaneSet::Angle(const PairIndex& pair, const Eigen::Vector3d& direction) const {
-  return std::atan2(direction.dot(pair.u2), direction.dot(pair.u1));
+  return PseudoAngle(direction.dot(pair.u2), direction.dot(pair.u1));
 }
 
 bool ConePlaneSet::Contains(int view, const Eigen::Vector2d& x) const {

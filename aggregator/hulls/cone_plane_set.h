@@ -24,7 +24,7 @@ struct ConePlane {
   int prev = -1, next = -1;
 };
 
-// The epipolar half-plane angles a contour edge spans, about one camera pair's baseline.
+// The epipolar half-plane (pseudo-)angles a contour edge spans, about one camera pair's baseline.
 struct EdgeArc {
   double lo = 0, hi = 0;
   int plane = -1;
@@ -68,6 +68,7 @@ class ConePlaneSet {
     double y0 = 0, step = 1;
     std::vector<std::vector<int>> rows;  // planes whose y-range meets each row
   };
+  // The direction's angle about the pair's baseline, as an order-preserving pseudo-angle.
   double Angle(const PairIndex& pair, const Eigen::Vector3d& direction) const;
 
   std::vector<ConePlane> planes_;

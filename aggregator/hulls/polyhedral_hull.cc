@@ -361,6 +361,25 @@ class HullAssembler {
   PolyhedralHullStats stats_;
 };
 
+// The pixels a silhouette's outline encloses (its pixel centres lie inside the outline), as
+// a rectangle clipped to the image; empty for an empty outline.
+cv::Rect PixelRect(const SilhouetteContours& contours, const cv::Size& image) {
+  float x0 = std::numeric_limits<float>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  for (const ContourPolygon& polygon : contours.polygons) {
+    for (const Eigen::Vector2f& x : polygon.outer) {
+      x0 = std::min(x0, x.x());
+      y0 = std::min(y0, x.y());
+      x1 = std::max(x1, x.x());
+      y1 = std::max(y1, x.y());
+    }
+  }
+  if (!(x1 >= x0)) return {};
+  const cv::Rect enclosing(
+      cv::Point(static_cast<int>(std::floor(x0)), static_cast<int>(std::floor(y0))),
+      cv::Point(static_cast<int>(std::ceil(x1)) + 1, static_cast<int>(std::ceil(y1)) + 1));
+  return enclosing & cv::Rect(cv::Point(0, 0), image);
+}
+
 // The first camera whose silhouette touches its image border, or -1.
 int TouchesBorder(const std::vector<CameraModel>& cameras,
                   const std::vector<SilhouetteContours>& contours) {
@@ -438,7 +457,27 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
                                            const std::vector<cv::Mat>& masks,
                                            const PolyhedralHullOptions& options) {
   PolyhedralHullResult result;
-  const ViewingConeBounds bounds = ComputeViewingConeBounds(cameras, masks);
+  if (masks.size() != cameras.size()) {
+    result.reason = "need one mask per camera";
+    return result;
+  }
+  ContourOptions contour_options;
+  contour_options.tolerance_px = options.contour_tolerance_px;
+  contour_options.smoothing_passes = options.contour_smoothing_passes;
+  contour_options.boundary_offset_px = options.contour_offset_px;
+  std::vector<SilhouetteContours> contours;
+  std::vector<cv::Rect> rects;
+  contours.reserve(masks.size());
+  for (size_t v = 0; v < masks.size(); ++v) {
+    const cv::Mat& mask = masks[v];
+    if (mask.type() != CV_8UC1 || mask.cols != cameras[v].width || mask.rows != cameras[v].height) {
+      result.reason = "mask of " + cameras[v].id + " is not a CV_8UC1 image of the camera's size";
+      return result;
+    }
+    contours.push_back(ExtractContours(mask, contour_options));
+    rects.push_back(PixelRect(contours.back(), mask.size()));
+  }
+  const ViewingConeBounds bounds = ComputeViewingConeBounds(cameras, rects);
   if (!bounds.success) {
     result.reason = bounds.reason;
     return result;
@@ -447,14 +486,6 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
   const Eigen::Vector3d pad = options.bounds_padding * box.sizes();
   box.min() -= pad;
   box.max() += pad;
-  ContourOptions contour_options;
-  contour_options.tolerance_px = options.contour_tolerance_px;
-  contour_options.smoothing_passes = options.contour_smoothing_passes;
-  contour_options.boundary_offset_px = options.contour_offset_px;
-  std::vector<SilhouetteContours> contours;
-  contours.reserve(masks.size());
-  for (const cv::Mat& mask : masks)
-    contours.push_back(ExtractContours(mask, contour_options));
   return ComputePolyhedralHull(cameras, contours, box);
 }
 

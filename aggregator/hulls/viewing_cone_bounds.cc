@@ -55,15 +55,29 @@ ViewingConeBounds ComputeViewingConeBounds(const std::vector<CameraModel>& camer
     result.reason = "need one mask per camera";
     return result;
   }
+  std::vector<cv::Rect> rects;
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    const cv::Mat& mask = masks[c];
+    if (mask.type() != CV_8UC1 || mask.cols != cameras[c].width || mask.rows != cameras[c].height) {
+      result.reason = "mask of " + cameras[c].id + " is not a CV_8UC1 image of the camera's size";
+      return result;
+    }
+    rects.push_back(cv::boundingRect(mask));  // of the non-zero pixels
+  }
+  return ComputeViewingConeBounds(cameras, rects);
+}
+
+ViewingConeBounds ComputeViewingConeBounds(const std::vector<CameraModel>& cameras,
+                                           const std::vector<cv::Rect>& rects) {
+  ViewingConeBounds result;
+  if (cameras.size() != rects.size() || cameras.empty()) {
+    result.reason = "need one silhouette rectangle per camera";
+    return result;
+  }
   std::vector<HalfSpace> planes;
   for (size_t c = 0; c < cameras.size(); ++c) {
     const CameraModel& camera = cameras[c];
-    const cv::Mat& mask = masks[c];
-    if (mask.type() != CV_8UC1 || mask.cols != camera.width || mask.rows != camera.height) {
-      result.reason = "mask of " + camera.id + " is not a CV_8UC1 image of the camera's size";
-      return result;
-    }
-    const cv::Rect rect = cv::boundingRect(mask);  // of the non-zero pixels
+    const cv::Rect& rect = rects[c];
     if (rect.empty()) {
       result.reason = "silhouette of " + camera.id + " is empty";
       return result;
@@ -112,13 +126,14 @@ ViewingConeBounds ComputeViewingConeBounds(const std::vector<CameraModel>& camer
   for (size_t a = 0; a < planes.size(); ++a) {
     for (size_t b = a + 1; b < planes.size(); ++b) {
       for (size_t c = b + 1; c < planes.size(); ++c) {
-        Eigen::Matrix3d A;
-        A.row(0) = planes[a].normal;
-        A.row(1) = planes[b].normal;
-        A.row(2) = planes[c].normal;
-        if (std::abs(A.determinant()) < 1e-12) continue;
-        const Eigen::Vector3d X = A.partialPivLu().solve(
-            -Eigen::Vector3d(planes[a].offset, planes[b].offset, planes[c].offset));
+        // Cramer's rule: X = -(o_a (n_b x n_c) + o_b (n_c x n_a) + o_c (n_a x n_b)) / det.
+        const Eigen::Vector3d bc = planes[b].normal.cross(planes[c].normal);
+        const double det = planes[a].normal.dot(bc);
+        if (std::abs(det) < 1e-12) continue;
+        const Eigen::Vector3d X =
+            -(planes[a].offset * bc + planes[b].offset * planes[c].normal.cross(planes[a].normal) +
+              planes[c].offset * planes[a].normal.cross(planes[b].normal)) /
+            det;
         const double scale = 1.0 + X.norm();
         const bool inside = std::all_of(planes.begin(), planes.end(), [&](const HalfSpace& h) {
           return h.normal.dot(X) + h.offset >= -kTolerance * scale;

@@ -27,4 +27,9 @@ struct ViewingConeBounds {
 ViewingConeBounds ComputeViewingConeBounds(const std::vector<CameraModel>& cameras,
                                            const std::vector<cv::Mat>& masks);
 
+// The same from each camera's silhouette bounding rectangle (pixels, covering every
+// silhouette pixel; empty when the silhouette is).
+ViewingConeBounds ComputeViewingConeBounds(const std::vector<CameraModel>& cameras,
+                                           const std::vector<cv::Rect>& rects);
+
 }  // namespace silnet::aggregator
