@@ -26,6 +26,24 @@ int CountLinks(const std::pair<int32_t, int32_t>* link, size_t size, int32_t ver
   return count;
 }
 
+// True if following a -> b from the first link visits every link once and comes back: the
+// triangles around the vertex form one closed fan. `visited` is scratch.
+bool IsSingleFan(const std::pair<int32_t, int32_t>* link, size_t size, std::vector<char>& visited) {
+  visited.assign(size, 0);
+  size_t steps = 0;
+  int32_t at = link[0].first;
+  do {
+    size_t k = 0;
+    while (k < size && link[k].first != at)
+      ++k;
+    if (k == size || visited[k]) return false;
+    visited[k] = 1;
+    at = link[k].second;
+    ++steps;
+  } while (at != link[0].first);
+  return steps == size;
+}
+
 }  // namespace
 
 MeshCheck CheckClosedManifold(const TriangleMesh& mesh) {
@@ -54,12 +72,20 @@ MeshCheck CheckClosedManifold(const TriangleMesh& mesh) {
   size_t undirected_edges = 0;
   long used_vertices = 0;
   std::vector<int32_t> neighbours;
+  std::vector<char> visited;
   for (size_t v = 0; v < mesh.vertices.size(); ++v) {
     const std::pair<int32_t, int32_t>* link = links.data() + offsets[v];
     const size_t size = offsets[v + 1] - offsets[v];
     if (size == 0) continue;
     ++used_vertices;
-    // Each edge {v, u} is judged once, at its lower end, from v's own links.
+    // A single fan settles every edge at v: each neighbour is entered and left once.
+    if (IsSingleFan(link, size, visited)) {
+      for (size_t k = 0; k < size; ++k)
+        undirected_edges += link[k].first > static_cast<int32_t>(v) ? 1 : 0;
+      continue;
+    }
+    ++check.non_manifold_vertices;
+    // Otherwise each edge {v, u} is judged once, at its lower end, from v's own links.
     neighbours.clear();
     for (size_t k = 0; k < size; ++k) {
       for (int32_t u : {link[k].first, link[k].second}) {
@@ -80,25 +106,6 @@ MeshCheck CheckClosedManifold(const TriangleMesh& mesh) {
         ++check.misoriented_edges;
       }
     }
-    // One fan: every link's start is distinct, and following a -> b from the first link
-    // visits all of them before returning.
-    bool fan = true;
-    for (size_t k = 0; k < size && fan; ++k)
-      fan = CountLinks(link, size, link[k].first, &std::pair<int32_t, int32_t>::first) == 1;
-    if (fan) {
-      size_t steps = 0;
-      int32_t at = link[0].first;
-      do {
-        size_t k = 0;
-        while (k < size && link[k].first != at)
-          ++k;
-        if (k == size) break;
-        at = link[k].second;
-        ++steps;
-      } while (at != link[0].first && steps <= size);
-      fan = steps == size && at == link[0].first;
-    }
-    if (!fan) ++check.non_manifold_vertices;
   }
   check.euler_characteristic = used_vertices - static_cast<long>(undirected_edges) +
                                static_cast<long>(mesh.triangles.size() - check.bad_indices);

@@ -98,10 +98,13 @@ void TriangulateConvex(const std::vector<ChartVertex>& polygon, bool reverse, Ad
   for (size_t k = 0; k < n; ++k) {
     const ChartVertex& prev = polygon[(k + n - 1) % n];
     const ChartVertex& next = polygon[(k + 1) % n];
+    // Collinear when the turn's sine is below 1e-9 (compared squared, without roots).
     const double cross = Cross(prev, polygon[k], next);
-    const double scale = std::hypot(polygon[k].lambda - prev.lambda, polygon[k].w - prev.w) *
-                         std::hypot(next.lambda - polygon[k].lambda, next.w - polygon[k].w);
-    if (cross <= 1e-9 * scale) collinear = true;
+    const double in_lambda = polygon[k].lambda - prev.lambda, in_w = polygon[k].w - prev.w;
+    const double out_lambda = next.lambda - polygon[k].lambda, out_w = next.w - polygon[k].w;
+    const double lengths_squared =
+        (in_lambda * in_lambda + in_w * in_w) * (out_lambda * out_lambda + out_w * out_w);
+    if (cross <= 0 || cross * cross <= 1e-18 * lengths_squared) collinear = true;
     area += Cross(polygon[0], polygon[k], next);
     lambda += polygon[k].lambda;
     w += polygon[k].w;
@@ -171,28 +174,41 @@ class HullAssembler {
   void AddCorners(const FaceRegion& region) {
     FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
     const ConePlane& plane = set_.Plane(region.plane);
+    // Corners on the boundary between two slabs are named once: the next slab's a-side
+    // corners are looked up among the previous slab's b-side ones.
+    previous_.clear();
     for (size_t s = 0; s < region.slabs.size(); ++s) {
       const ChartSlab& slab = region.slabs[s];
+      current_.clear();
+      const auto corner = [&](int line, double lambda, int boundary) {
+        const ChartLine& chart_line = region.lines[static_cast<size_t>(line)];
+        Corner c;
+        c.w = chart_line.WAt(lambda);
+        c.vertex = VertexFor(region, plane, chart_line.plane, lambda, c.w, boundary);
+        face.boundary.push_back({lambda, c});
+        return c;
+      };
+      const auto a_corner = [&](int line) {
+        for (const auto& [known, c] : previous_) {
+          if (known == line) return c;  // slabs are contiguous: this is the same point
+        }
+        return corner(line, slab.lambda_a, static_cast<int>(s));
+      };
       for (const auto& [lo, hi] : slab.intervals) {
         Trapezoid t;
         t.lo = lo;
         t.hi = hi;
         t.a = slab.lambda_a;
         t.b = slab.lambda_b;
-        const auto corner = [&](int line, double lambda, int boundary) {
-          const ChartLine& chart_line = region.lines[static_cast<size_t>(line)];
-          Corner c;
-          c.w = chart_line.WAt(lambda);
-          c.vertex = VertexFor(region, plane, chart_line.plane, lambda, c.w, boundary);
-          face.boundary.push_back({lambda, c});
-          return c;
-        };
-        t.bottom_a = corner(lo, t.a, static_cast<int>(s));
-        t.top_a = corner(hi, t.a, static_cast<int>(s));
+        t.bottom_a = a_corner(lo);
+        t.top_a = a_corner(hi);
         t.bottom_b = corner(lo, t.b, static_cast<int>(s) + 1);
         t.top_b = corner(hi, t.b, static_cast<int>(s) + 1);
+        current_.emplace_back(lo, t.bottom_b);
+        current_.emplace_back(hi, t.top_b);
         face.trapezoids.push_back(t);
       }
+      previous_.swap(current_);
     }
     std::sort(face.boundary.begin(), face.boundary.end(),
               [](const BoundaryCorner& x, const BoundaryCorner& y) {
@@ -356,6 +372,7 @@ class HullAssembler {
   std::vector<std::pair<uint64_t, int>> cuts_;  // (EdgeKey(face, line), vertex), sorted
   std::vector<ChartVertex> polygon_, edge_;     // scratch of AddTriangles
   std::vector<Corner> side_;
+  std::vector<std::pair<int, Corner>> previous_, current_;  // scratch of AddCorners
   std::vector<Eigen::Vector3d> positions_;
   std::vector<std::array<int32_t, 3>> triangles_;
   PolyhedralHullStats stats_;
