@@ -120,15 +120,17 @@ void TriangulateConvex(const std::vector<ChartVertex>& polygon, bool reverse, Ad
     emit(centre, polygon[k].vertex, polygon[(k + 1) % n].vertex);
 }
 
-// Merges vertices closer than `tolerance` (where more than three cone faces meet, the
-// faces name the point by different triples), drops the triangles that collapse and the
-// vertices no triangle uses.
+// Merges the `weldable` vertices closer than `tolerance` (where more than three cone faces
+// meet, the faces name the point by different triples), drops the triangles that collapse and
+// the vertices no triangle uses.
 TriangleMesh WeldCoincidentVertices(const std::vector<Eigen::Vector3d>& positions,
+                                    const std::vector<char>& weldable,
                                     const std::vector<std::array<int32_t, 3>>& triangles,
                                     double tolerance) {
-  std::vector<int> order(positions.size());
-  for (size_t v = 0; v < order.size(); ++v)
-    order[v] = static_cast<int>(v);
+  std::vector<int> order;
+  for (size_t v = 0; v < positions.size(); ++v) {
+    if (weldable[v]) order.push_back(static_cast<int>(v));
+  }
   std::sort(order.begin(), order.end(), [&](int x, int y) {
     return positions[static_cast<size_t>(x)].x() < positions[static_cast<size_t>(y)].x();
   });
@@ -256,6 +258,7 @@ class HullAssembler {
         polygon_.pop_back();
       const auto add_vertex = [&](double lambda, double w) {
         positions_.push_back(region.Point(lambda, w));
+        weldable_.push_back(0);  // a polygon's own centre: no other face has it
         return static_cast<int>(positions_.size()) - 1;
       };
       TriangulateConvex(polygon_, reverse, add_vertex, triangles_);
@@ -264,7 +267,7 @@ class HullAssembler {
 
   // The mesh, with vertices closer than `tolerance` merged.
   TriangleMesh Mesh(double tolerance) const {
-    return WeldCoincidentVertices(positions_, triangles_, tolerance);
+    return WeldCoincidentVertices(positions_, weldable_, triangles_, tolerance);
   }
   const PolyhedralHullStats& Stats() const { return stats_; }
 
@@ -292,6 +295,7 @@ class HullAssembler {
     const auto [it, inserted] = ids_.try_emplace(*key, static_cast<int>(positions_.size()));
     if (inserted) {
       positions_.push_back(region.Point(lambda, w));
+      weldable_.push_back(1);
       Count(*key);
       if (cut) cuts_.emplace_back(EdgeKey(region.plane, line), it->second);
     }
@@ -374,6 +378,7 @@ class HullAssembler {
   std::vector<Corner> side_;
   std::vector<std::pair<int, Corner>> previous_, current_;  // scratch of AddCorners
   std::vector<Eigen::Vector3d> positions_;
+  std::vector<char> weldable_;  // per position: a named vertex (not a polygon's centre)
   std::vector<std::array<int32_t, 3>> triangles_;
   PolyhedralHullStats stats_;
 };

@@ -98,11 +98,11 @@ SilhouetteContours ExtractContours(const cv::Mat& mask, const ContourOptions& op
   SILNET_CHECK_MSG(mask.type() == CV_8UC1, "silhouette masks are CV_8UC1, got " << mask.type());
   std::vector<std::vector<cv::Point>> rings;
   std::vector<cv::Vec4i> hierarchy;
-  // findContours needs a binary image it may modify; only the foreground's box matters.
+  // findContours treats non-zero pixels as foreground and leaves its input alone (OpenCV >=
+  // 3.2); only the foreground's box matters.
   const cv::Rect box = cv::boundingRect(mask);
   if (box.area() == 0) return {};
-  cv::Mat binary = mask(box) != 0;
-  cv::findContours(binary, rings, hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_NONE, box.tl());
+  cv::findContours(mask(box), rings, hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_NONE, box.tl());
   SilhouetteContours contours;
   for (size_t i = 0; i < rings.size(); ++i) {
     if (hierarchy[i][3] >= 0) continue;  // a hole; handled with its parent
