@@ -43,7 +43,7 @@ struct PolyhedralHullResult {
 
 // Settings of the computation.
 struct PolyhedralHullOptions {
-  double contour_tolerance_px = 0.5;  // Douglas-Peucker tolerance of the contours from masks
+  double contour_tolerance_px = 0.6;  // Douglas-Peucker tolerance of the contours from masks
   // The mask outlines are smoothed along the ring this often before simplifying (fewer cone
   // faces for the same tolerance) and placed this far outside the boundary pixel centres
   // (slightly beyond the pixel edges, so the simplified outline still covers them).

@@ -100,7 +100,7 @@ void BM_PolyhedralHull8Views(benchmark::State& state) {
   state.counters["worst_view_missed_pct"] = 100.0 * missed;
   state.counters["worst_view_extra_pct"] = 100.0 * extra;
 }
-BENCHMARK(BM_PolyhedralHull8Views)->Arg(5)->Arg(10)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PolyhedralHull8Views)->Arg(5)->Arg(6)->Arg(10)->Unit(benchmark::kMillisecond);
 
 void BM_InterpolateSilhouette640x480(benchmark::State& state) {
   const Frame& frame = TheFrame();
