@@ -110,6 +110,10 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
     octagons_.push_back(OctagonAround(planes_, view_planes_[v]));
   }
 
+  normals_.reserve(planes_.size());
+  for (const ConePlane& plane : planes_)
+    normals_.push_back(Ray(plane.view, plane.p).cross(Ray(plane.view, plane.q)));
+
   pairs_.resize(views * views);
   const Eigen::Vector3d centre = bounds.center();
   for (size_t i = 0; i < views; ++i) {

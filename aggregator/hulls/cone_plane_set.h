@@ -43,6 +43,8 @@ class ConePlaneSet {
   size_t Views() const { return view_planes_.size(); }
   // Camera `view`'s undistorted projection matrix.
   const Matrix34d& Projection(int view) const { return projections_[static_cast<size_t>(view)]; }
+  // The world normal of plane `index` (the cross product of its rays through p and q).
+  const Eigen::Vector3d& Normal(int index) const { return normals_[static_cast<size_t>(index)]; }
   // World direction of the ray through an undistorted pixel of `view`, at unit depth.
   Eigen::Vector3d Ray(int view, const Eigen::Vector2d& pixel) const;
   // Eight half-planes (line . (x, y, 1) >= 0 inside) bounding `view`'s silhouette in
@@ -72,6 +74,7 @@ class ConePlaneSet {
   double Angle(const PairIndex& pair, const Eigen::Vector3d& direction) const;
 
   std::vector<ConePlane> planes_;
+  std::vector<Eigen::Vector3d> normals_;
   std::vector<std::vector<int>> view_planes_;
   std::vector<Matrix34d> projections_;
   std::vector<Eigen::Matrix3d> pixel_to_ray_;

@@ -230,8 +230,6 @@ class HullAssembler {
     const ConePlane& plane = set_.Plane(region.plane);
     const bool reverse = !ChartIsOutward(region, plane);
     for (const Trapezoid& t : face.trapezoids) {
-      const ChartLine& lo = region.lines[static_cast<size_t>(t.lo)];
-      const ChartLine& hi = region.lines[static_cast<size_t>(t.hi)];
       polygon_.clear();
       const auto push = [&](double lambda, double w, int vertex) {
         if (polygon_.empty() || polygon_.back().vertex != vertex)
@@ -243,13 +241,13 @@ class HullAssembler {
           push(lambda, c.w, c.vertex);
       };
       push(t.a, t.bottom_a.w, t.bottom_a.vertex);
-      EdgeCuts(region, plane, lo, t, false, edge_);
+      EdgeCuts(region, face, plane, t.lo, t, false, edge_);
       for (const ChartVertex& x : edge_)
         push(x.lambda, x.w, x.vertex);
       push(t.b, t.bottom_b.w, t.bottom_b.vertex);
       push_side(t.b, t.bottom_b, t.top_b, false);
       push(t.b, t.top_b.w, t.top_b.vertex);
-      EdgeCuts(region, plane, hi, t, true, edge_);
+      EdgeCuts(region, face, plane, t.hi, t, true, edge_);
       for (const ChartVertex& x : edge_)
         push(x.lambda, x.w, x.vertex);
       push(t.a, t.top_a.w, t.top_a.vertex);
@@ -317,25 +315,81 @@ class HullAssembler {
     }
   }
 
-  // The cuts the face of `line` made on its edge with this face, strictly inside the
-  // trapezoid's span, in polygon order (increasing lambda below, decreasing above), into `out`.
-  void EdgeCuts(const FaceRegion& region, const ConePlane& plane, const ChartLine& line,
-                const Trapezoid& t, bool top, std::vector<ChartVertex>& out) const {
+  // The cuts the face of line `line_index` made on its edge with this face that belong to
+  // trapezoid `t`'s side along that line, in polygon order (from the a-end to the b-end below,
+  // back above), into `out`. Both faces of the edge place its points by one parameter, the
+  // position along the planes' common direction, so they agree on the order even where the
+  // planes are nearly parallel and their charts disagree. A cut belongs to the side whose
+  // span contains it or, where rounding puts it outside every span of the line, the nearest.
+  void EdgeCuts(const FaceRegion& region, const FaceCorners& face, const ConePlane& plane,
+                int line_index, const Trapezoid& t, bool top, std::vector<ChartVertex>& out) const {
     out.clear();
+    const ChartLine& line = region.lines[static_cast<size_t>(line_index)];
     const uint64_t key = EdgeKey(line.plane, region.plane);
     auto it = std::lower_bound(cuts_.begin(), cuts_.end(), std::pair<uint64_t, int>(key, -1));
     if (it == cuts_.end() || it->first != key) return;
+    const Eigen::Vector3d direction = EdgeDirection(region.plane, line.plane);
+    const auto along = [&](int vertex) {
+      return direction.dot(positions_[static_cast<size_t>(vertex)]);
+    };
+    // The span of trapezoid u's side on the line: parameters at its a- and b-ends.
+    const auto span = [&](const Trapezoid& u) {
+      const bool upper = u.hi == line_index;
+      return std::pair<double, double>(along(upper ? u.top_a.vertex : u.bottom_a.vertex),
+                                       along(upper ? u.top_b.vertex : u.bottom_b.vertex));
+    };
+    const auto distance = [](double x, const std::pair<double, double>& ends) {
+      const double low = std::min(ends.first, ends.second);
+      const double high = std::max(ends.first, ends.second);
+      return x < low ? low - x : (x > high ? x - high : 0.0);
+    };
+    const auto mine = span(t);
     const Matrix34d& P = set_.Projection(plane.view);
     const Eigen::Vector2d edge = plane.q - plane.p;
     for (; it != cuts_.end() && it->first == key; ++it) {
-      const Eigen::Vector2d x =
+      const double x = along(it->second);
+      const double low = std::min(mine.first, mine.second);
+      const double high = std::max(mine.first, mine.second);
+      bool ours = x > low && x < high;
+      if (!ours) {
+        const double gap = distance(x, mine);
+        ours = gap > 0;
+        for (const Trapezoid& u : face.trapezoids) {
+          if (&u != &t && (u.lo == line_index || u.hi == line_index) &&
+              distance(x, span(u)) <= gap) {
+            ours = false;
+            break;
+          }
+        }
+      }
+      if (!ours) continue;
+      const Eigen::Vector2d pixel =
           (P * positions_[static_cast<size_t>(it->second)].homogeneous()).hnormalized();
-      const double lambda = (x - plane.p).dot(edge) / edge.squaredNorm();
-      if (lambda > t.a && lambda < t.b) out.push_back({lambda, line.WAt(lambda), it->second});
+      const double lambda = (pixel - plane.p).dot(edge) / edge.squaredNorm();
+      out.push_back({lambda, line.WAt(lambda), it->second});
+      edge_along_.push_back(x);
     }
-    std::sort(out.begin(), out.end(), [top](const ChartVertex& x, const ChartVertex& y) {
-      return top ? x.lambda > y.lambda : x.lambda < y.lambda;
-    });
+    // Sort by the parameter, from the side's first polygon corner to its last.
+    const double from = top ? mine.second : mine.first;
+    const double to = top ? mine.first : mine.second;
+    const double sign = to >= from ? 1.0 : -1.0;
+    order_.resize(out.size());
+    for (size_t k = 0; k < order_.size(); ++k)
+      order_[k] = k;
+    std::sort(order_.begin(), order_.end(),
+              [&](size_t x, size_t y) { return sign * edge_along_[x] < sign * edge_along_[y]; });
+    sorted_.clear();
+    for (size_t k : order_)
+      sorted_.push_back(out[k]);
+    out.swap(sorted_);
+    edge_along_.clear();
+  }
+
+  // The unit direction of the line where planes `a` and `b` meet, the same for either order.
+  Eigen::Vector3d EdgeDirection(int a, int b) const {
+    const Eigen::Vector3d d =
+        a < b ? set_.Normal(a).cross(set_.Normal(b)) : set_.Normal(b).cross(set_.Normal(a));
+    return d.normalized();
   }
 
   // Corners of the face's other trapezoids on the vertical side at `lambda` strictly between
@@ -377,6 +431,9 @@ class HullAssembler {
   std::vector<ChartVertex> polygon_, edge_;     // scratch of AddTriangles
   std::vector<Corner> side_;
   std::vector<std::pair<int, Corner>> previous_, current_;  // scratch of AddCorners
+  mutable std::vector<ChartVertex> sorted_;                 // scratch of EdgeCuts
+  mutable std::vector<double> edge_along_;
+  mutable std::vector<size_t> order_;
   std::vector<Eigen::Vector3d> positions_;
   std::vector<char> weldable_;  // per position: a named vertex (not a polygon's centre)
   std::vector<std::array<int32_t, 3>> triangles_;
