@@ -14,7 +14,7 @@ namespace {
 struct HullsArgs {
   std::string input, calibration, frames, out;
   double voxel = 0;
-  bool no_interpolation = false, overlays = false, polyhedral = false;
+  bool no_interpolation = false, overlays = false, voxels = false;
   int threads = 0;
 };
 
@@ -42,7 +42,7 @@ int RunHulls(const HullsArgs& args) {
   config.options.voxel_size = args.voxel;
   if (args.no_interpolation) config.options.interpolate = false;
   config.options.overlays = args.overlays;
-  config.options.polyhedral = args.polyhedral;
+  config.options.polyhedral = !args.voxels;
   config.options.threads = args.threads;
   const auto run = RunWithProgress(
       "hulls", [&](Progress* progress) { return RunHullSequenceJob(config, progress); });
@@ -74,13 +74,15 @@ Command AddHullsCommand(CLI::App& app) {
                   "reference frames A:B (A..B-1) of the camera with time offset 0")
       ->required();
   cmd->add_option("-o,--out", args->out, "output folder")->required();
-  cmd->add_option("--voxel", args->voxel, "voxel edge in metres (default: 1/200 of the bounds)")
+  cmd->add_option("--voxel", args->voxel,
+                  "voxel edge in metres, when carving (default: 1/200 of the bounds)")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--no-interpolation", args->no_interpolation,
                 "use each camera's nearest frame instead of sub-frame silhouettes");
   cmd->add_flag("--overlays", args->overlays, "write reprojection overlays under OUT/overlays/");
-  cmd->add_flag("--polyhedral", args->polyhedral,
-                "exact polyhedral hulls (slower); frames where it fails are carved in voxels");
+  cmd->add_flag("--voxels", args->voxels,
+                "carve voxel hulls instead of the exact polyhedral ones (which fall back to "
+                "voxels for a frame they cannot close)");
   cmd->add_option("--threads", args->threads, "threads (0 = all cores)")->capture_default_str();
   return {cmd, [args] { return RunHulls(*args); }};
 }

@@ -21,7 +21,7 @@ struct LiveArgs {
   int cameras = 0, calibrate_after = 400, hull_frames = 30, hull_gap = 10, attempts = 3;
   int motion_window = 60, reestimate_frames = 240;
   double idle_exit_s = 5.0, give_up_s = 60.0, rig_radius = 1.0;
-  bool no_publish = false, polyhedral = false, overlays = false, serve = false, continuous = false;
+  bool no_publish = false, voxels = false, overlays = false, serve = false, continuous = false;
   PairwiseArgs pairwise;
 };
 
@@ -47,7 +47,7 @@ int RunLive(const LiveArgs& args) {
   options.motion.window_frames = args.motion_window;
   options.motion.reestimate_frames = args.reestimate_frames;
   options.motion.moved.pair = options.calibrate.pairwise.pair;
-  options.hulls.polyhedral = args.polyhedral;
+  options.hulls.polyhedral = !args.voxels;
   options.hulls.overlays = args.overlays;
   if (!args.ground_truth.empty() && !std::filesystem::is_regular_file(args.ground_truth))
     throw InputError("--ground-truth " + args.ground_truth + " is not a file");
@@ -101,7 +101,8 @@ Command AddLiveCommand(CLI::App& app) {
   cmd->add_flag("--serve", args->serve,
                 "run as a service until SIGINT/SIGTERM; SIGHUP (or `silnet-aggregator recalibrate "
                 "OUT`) recalibrates on the newest frames");
-  cmd->add_flag("--polyhedral", args->polyhedral, "exact polyhedral hulls (voxels as fallback)");
+  cmd->add_flag("--voxels", args->voxels,
+                "carve voxel hulls instead of the exact polyhedral ones (their fallback)");
   cmd->add_flag("--overlays", args->overlays, "hull reprojection overlays per view");
   cmd->add_option("--idle-exit", args->idle_exit_s,
                   "once hulls are built, exit after this many seconds without samples")

@@ -27,8 +27,8 @@ namespace silnet::aggregator {
 
 // Settings of the job.
 struct HullSequenceOptions {
-  bool polyhedral = false;           // exact polyhedral hull (polyhedral_hull.h), carving the
-                                     // voxels instead for a frame where it fails
+  bool polyhedral = true;            // exact polyhedral hull (polyhedral_hull.h), carving the
+                                     // voxels instead for a frame where it fails; false: carve
   double voxel_size = 0;             // metres; 0 = 1/200 of the first frame's bounds diagonal
   std::optional<bool> interpolate;   // sub-frame silhouettes; unset = on iff some f_c is
                                      // non-integer

@@ -211,6 +211,7 @@ TEST(HullSequenceJobTest, WritesMeshesIndexAndOverlays) {
   ASSERT_LT(first + 3, static_cast<int>(std::floor(highest)));
   HullSequenceConfig config = data.Config(first, first + 3);
   config.options.overlays = true;
+  config.options.polyhedral = false;  // carved: the fallback's own path
   Progress progress("hulls", 0);
   const HullSequenceResult result = RunHullSequenceJob(config, &progress);
   EXPECT_TRUE(result.interpolated);
@@ -220,6 +221,7 @@ TEST(HullSequenceJobTest, WritesMeshesIndexAndOverlays) {
   EXPECT_EQ(progress.done(), 3u);
   for (const HullFrameResult& f : result.frames) {
     ASSERT_TRUE(f.success) << f.reason;
+    EXPECT_EQ(f.method, "voxel");
     const TriangleMesh mesh = ReadPlyMesh((config.output / f.file).string());
     EXPECT_EQ(mesh.triangles.size(), f.triangles);
     EXPECT_GT(f.volume_m3, 0.01);  // a person is some 0.07 m^3
@@ -317,10 +319,10 @@ TEST(HullSequenceJobTest, AFrameWithoutContourIsAClearError) {
   }
 }
 
-TEST(HullSequenceJobTest, PolyhedralMethodWritesClosedExactHulls) {
+TEST(HullSequenceJobTest, ByDefaultWritesClosedExactPolyhedralHulls) {
   const SimulatedDataset data;
-  HullSequenceConfig config = data.Config(4, 7);
-  config.options.polyhedral = true;
+  const HullSequenceConfig config = data.Config(4, 7);
+  ASSERT_TRUE(config.options.polyhedral);
   const HullSequenceResult result = RunHullSequenceJob(config, nullptr);
   ASSERT_EQ(result.frames.size(), 3u);
   for (const HullFrameResult& frame : result.frames) {
