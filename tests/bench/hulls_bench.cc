@@ -80,7 +80,7 @@ void BM_CarveAndMesh8Views(benchmark::State& state) {
 BENCHMARK(BM_CarveAndMesh8Views)->Arg(10)->Arg(20)->Unit(benchmark::kMillisecond);
 
 // Arg: contour tolerance in tenths of a pixel. Counters: the worst view's missed and extra
-// silhouette pixels (percent).
+// silhouette pixels (percent), the mesh's triangles and the cone faces (contour edges).
 void BM_PolyhedralHull8Views(benchmark::State& state) {
   const Frame& frame = TheFrame();
   PolyhedralHullOptions options;
@@ -92,6 +92,7 @@ void BM_PolyhedralHull8Views(benchmark::State& state) {
     benchmark::DoNotOptimize(hull.mesh.triangles.size());
   }
   state.counters["triangles"] = static_cast<double>(hull.mesh.triangles.size());
+  state.counters["cone_faces"] = static_cast<double>(hull.stats.cone_faces);
   double missed = 0.0, extra = 0.0;
   for (const ViewReprojection& v : MeasureHullReprojection(hull.mesh, frame.cameras, frame.masks)) {
     missed = std::max(missed, v.missed_fraction);

@@ -122,11 +122,14 @@ TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsAndReport) {
       missed += static_cast<double>(view["missed_fraction"]) / 8.0;
     missed_per_frame += std::to_string(420 + k) + ": " + std::to_string(missed) + "\n";
   }
-  // Carved with the estimated calibration (rotation ~0.13 deg, a pixel or two at the
-  // subject), frames with the limbs spread miss up to ~4 % of the silhouette pixels; the
-  // mean over a run was 1.3 %. (With the true cameras the walker misses 0.2-0.7 %:
-  // tests/aggregator/hulls.)
-  EXPECT_LE(static_cast<double>(hulls["mean_missed"]), 0.02) << missed_per_frame;
+  // Exact hulls with the estimated calibration (rotation ~0.13 deg, a pixel or two at the
+  // subject): the cones of slightly misplaced cameras intersect a little short of every
+  // silhouette, so frames with the limbs spread miss up to ~4 % of its pixels; the mean over
+  // a run was 1.6 % (1.8 % in the demo), while they cover only 2-3 % outside it. (Carved
+  // voxels missed 1.3 % but covered ~6 % outside; with the true cameras the exact hull of the
+  // walker misses 0.6 %: tests/aggregator/hulls.)
+  EXPECT_LE(static_cast<double>(hulls["mean_missed"]), 0.03) << missed_per_frame;
+  EXPECT_LE(static_cast<double>(hulls["mean_spurious"]), 0.04);
   EXPECT_TRUE(std::filesystem::exists(out / "report.html"));
   EXPECT_TRUE(std::filesystem::exists(out / "calibration/report/report.html"));
   EXPECT_TRUE(std::filesystem::exists(out / "calibration/calibration.yaml"));
