@@ -52,7 +52,7 @@ const char* ToString(Stage stage) {
     case Stage::kCalibrating:
       return "calibrating";
     case Stage::kWaitingForHullFrames:
-      return "waiting for the frames to build hulls of";
+      return "waiting for the frames to build hulls from";
     case Stage::kBuildingHulls:
       return "building hulls";
     case Stage::kDone:
@@ -88,6 +88,7 @@ class LiveJob {
                  (options_.output / "session").string(), options_.domain.Describe(),
                  calibration_frames_);
     auto last_activity = Clock::now();
+    auto stage_entered = Clock::now();
     auto next_status = Clock::now() + std::chrono::seconds(5);
     while (!stop_()) {
       if (ingest_.Poll(std::chrono::milliseconds(100)) > 0) last_activity = Clock::now();
@@ -99,18 +100,22 @@ class LiveJob {
         // Every node's state (alive, fps, drops, newest frame) for tools watching the run.
         ingest_.WriteSummary(options_.output / "session" / "ingest_summary.yaml");
       }
+      const Stage before = stage_;
       Advance(cameras, idle);
       WatchForMovedCameras(cameras);
+      if (stage_ != before) stage_entered = Clock::now();
       if (options_.serve) continue;
       if (stage_ == Stage::kDone && idle > options_.idle_exit_s && ingest_.Totals().missing == 0) {
         break;
       }
       // Silence ends the run only while it waits for frames (or for missing ones at the end);
-      // a calibration or hull build in progress runs to its end on the frames that arrived.
+      // a calibration or hull build in progress runs to its end on the frames that arrived,
+      // and a wait that has just begun (after a long calibration) first looks at those.
       const bool waiting_for_frames = stage_ == Stage::kCollecting ||
                                       stage_ == Stage::kWaitingForHullFrames ||
                                       stage_ == Stage::kDone;
-      if (waiting_for_frames && idle > options_.give_up_s && ingest_.Totals().received > 0) {
+      const double silent = std::min(idle, SecondsSince(stage_entered));
+      if (waiting_for_frames && silent > options_.give_up_s && ingest_.Totals().received > 0) {
         spdlog::warn("live: no samples for {:.0f} s: stopping while {}", idle, ToString(stage_));
         if (result_.failure.empty())
           result_.failure = fmt::format("the streams went silent while {}", ToString(stage_));
