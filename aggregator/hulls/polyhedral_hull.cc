@@ -344,16 +344,17 @@ class HullAssembler {
       return x < low ? low - x : (x > high ? x - high : 0.0);
     };
     const auto mine = span(t);
+    // Polygon order runs from the side's first corner to its last.
+    const double sign = (top ? mine.first - mine.second : mine.second - mine.first) >= 0 ? 1 : -1;
     const Matrix34d& P = set_.Projection(plane.view);
     const Eigen::Vector2d edge = plane.q - plane.p;
+    ordered_cuts_.clear();
     for (; it != cuts_.end() && it->first == key; ++it) {
       const double x = along(it->second);
-      const double low = std::min(mine.first, mine.second);
-      const double high = std::max(mine.first, mine.second);
-      bool ours = x > low && x < high;
-      if (!ours) {
-        const double gap = distance(x, mine);
-        ours = gap > 0;
+      const double gap = distance(x, mine);
+      bool ours = gap == 0 && x != mine.first && x != mine.second;
+      if (gap > 0) {
+        ours = true;
         for (const Trapezoid& u : face.trapezoids) {
           if (&u != &t && (u.lo == line_index || u.hi == line_index) &&
               distance(x, span(u)) <= gap) {
@@ -366,23 +367,12 @@ class HullAssembler {
       const Eigen::Vector2d pixel =
           (P * positions_[static_cast<size_t>(it->second)].homogeneous()).hnormalized();
       const double lambda = (pixel - plane.p).dot(edge) / edge.squaredNorm();
-      out.push_back({lambda, line.WAt(lambda), it->second});
-      edge_along_.push_back(x);
+      ordered_cuts_.push_back({sign * x, ChartVertex{lambda, line.WAt(lambda), it->second}});
     }
-    // Sort by the parameter, from the side's first polygon corner to its last.
-    const double from = top ? mine.second : mine.first;
-    const double to = top ? mine.first : mine.second;
-    const double sign = to >= from ? 1.0 : -1.0;
-    order_.resize(out.size());
-    for (size_t k = 0; k < order_.size(); ++k)
-      order_[k] = k;
-    std::sort(order_.begin(), order_.end(),
-              [&](size_t x, size_t y) { return sign * edge_along_[x] < sign * edge_along_[y]; });
-    sorted_.clear();
-    for (size_t k : order_)
-      sorted_.push_back(out[k]);
-    out.swap(sorted_);
-    edge_along_.clear();
+    std::sort(ordered_cuts_.begin(), ordered_cuts_.end(),
+              [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (const auto& cut : ordered_cuts_)
+      out.push_back(cut.second);
   }
 
   // The unit direction of the line where planes `a` and `b` meet, the same for either order.
@@ -430,10 +420,8 @@ class HullAssembler {
   std::vector<std::pair<uint64_t, int>> cuts_;  // (EdgeKey(face, line), vertex), sorted
   std::vector<ChartVertex> polygon_, edge_;     // scratch of AddTriangles
   std::vector<Corner> side_;
-  std::vector<std::pair<int, Corner>> previous_, current_;  // scratch of AddCorners
-  mutable std::vector<ChartVertex> sorted_;                 // scratch of EdgeCuts
-  mutable std::vector<double> edge_along_;
-  mutable std::vector<size_t> order_;
+  std::vector<std::pair<int, Corner>> previous_, current_;            // scratch of AddCorners
+  mutable std::vector<std::pair<double, ChartVertex>> ordered_cuts_;  // scratch of EdgeCuts
   std::vector<Eigen::Vector3d> positions_;
   std::vector<char> weldable_;  // per position: a named vertex (not a polygon's centre)
   std::vector<std::array<int32_t, 3>> triangles_;
@@ -549,10 +537,8 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
   contours.reserve(masks.size());
   for (size_t v = 0; v < masks.size(); ++v) {
     const cv::Mat& mask = masks[v];
-    if (mask.type() != CV_8UC1 || mask.cols != cameras[v].width || mask.rows != cameras[v].height) {
-      result.reason = "mask of " + cameras[v].id + " is not a CV_8UC1 image of the camera's size";
-      return result;
-    }
+    result.reason = MaskShapeProblem(cameras[v], mask);
+    if (!result.reason.empty()) return result;
     contours.push_back(ExtractContours(mask, contour_options));
     rects.push_back(PixelRect(contours.back(), mask.size()));
   }

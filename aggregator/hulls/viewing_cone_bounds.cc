@@ -48,6 +48,11 @@ Eigen::AlignedBox2d UndistortedSilhouetteRect(const CameraModel& camera, const c
 
 }  // namespace
 
+std::string MaskShapeProblem(const CameraModel& camera, const cv::Mat& mask) {
+  if (mask.type() == CV_8UC1 && mask.cols == camera.width && mask.rows == camera.height) return {};
+  return "mask of " + camera.id + " is not a CV_8UC1 image of the camera's size";
+}
+
 ViewingConeBounds ComputeViewingConeBounds(const std::vector<CameraModel>& cameras,
                                            const std::vector<cv::Mat>& masks) {
   ViewingConeBounds result;
@@ -57,12 +62,9 @@ ViewingConeBounds ComputeViewingConeBounds(const std::vector<CameraModel>& camer
   }
   std::vector<cv::Rect> rects;
   for (size_t c = 0; c < cameras.size(); ++c) {
-    const cv::Mat& mask = masks[c];
-    if (mask.type() != CV_8UC1 || mask.cols != cameras[c].width || mask.rows != cameras[c].height) {
-      result.reason = "mask of " + cameras[c].id + " is not a CV_8UC1 image of the camera's size";
-      return result;
-    }
-    rects.push_back(cv::boundingRect(mask));  // of the non-zero pixels
+    result.reason = MaskShapeProblem(cameras[c], masks[c]);
+    if (!result.reason.empty()) return result;
+    rects.push_back(cv::boundingRect(masks[c]));  // of the non-zero pixels
   }
   return ComputeViewingConeBounds(cameras, rects);
 }

@@ -21,6 +21,10 @@ struct ViewingConeBounds {
   std::string reason;  // why not, when !success ("silhouette of cam03 is empty", "unbounded")
 };
 
+// Why `mask` cannot be `camera`'s silhouette mask (it is not a CV_8UC1 image of the
+// camera's size), or empty if it can.
+std::string MaskShapeProblem(const CameraModel& camera, const cv::Mat& mask);
+
 // Computes the box from one CV_8UC1 mask per camera (non-zero = silhouette). Fails (as
 // data) when a mask is empty or of the wrong size, or when the cones do not bound a finite
 // region (e.g. all cameras look the same way).

@@ -176,11 +176,8 @@ VoxelHullResult CarveVoxelHull(const std::vector<CameraModel>& cameras,
     return result;
   }
   for (size_t c = 0; c < cameras.size(); ++c) {
-    if (masks[c].type() != CV_8UC1 || masks[c].cols != cameras[c].width ||
-        masks[c].rows != cameras[c].height) {
-      result.reason = "mask of " + cameras[c].id + " is not a CV_8UC1 image of the camera's size";
-      return result;
-    }
+    result.reason = MaskShapeProblem(cameras[c], masks[c]);
+    if (!result.reason.empty()) return result;
   }
   WorldBox box;
   if (options.bounds) {
