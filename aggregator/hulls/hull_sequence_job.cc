@@ -148,6 +148,7 @@ HullFrameResult BuildFrame(const SilhouetteSource& silhouettes,
     if (exact.success) {
       mesh = std::move(exact.mesh);
       result.method = "polyhedral";
+      result.gaps_filled = exact.stats.gaps_filled;
     } else {
       result.polyhedral_failure = exact.reason;
       spdlog::warn("frame {}: polyhedral hull failed ({}); carving voxels", frame, exact.reason);
@@ -224,6 +225,7 @@ void WriteHullIndex(const HullSequenceConfig& config, const HullSequenceResult& 
        << static_cast<int>(f.triangles) << "closed_manifold" << static_cast<int>(f.closed_manifold)
        << "volume" << f.volume_m3 << "method" << f.method;
     if (!f.polyhedral_failure.empty()) fs << "polyhedral_failure" << f.polyhedral_failure;
+    if (f.gaps_filled > 0) fs << "gaps_filled" << static_cast<int>(f.gaps_filled);
     fs << "views"
        << "[";
     for (const ViewReprojection& v : f.views) {

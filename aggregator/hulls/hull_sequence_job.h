@@ -63,6 +63,7 @@ struct HullFrameResult {
   double volume_m3 = 0;                 // the mesh's enclosed volume
   std::string method;                   // "polyhedral" or "voxel"
   std::string polyhedral_failure;       // why the polyhedral hull fell back to voxels, if it did
+  size_t gaps_filled = 0;               // in the polyhedral hull (PolyhedralHullStats)
   std::vector<ViewReprojection> views;  // against the silhouettes the hull was carved from
 };
 

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "aggregator/hulls/cone_face_region.h"
+#include "aggregator/hulls/in_plane_gap_filler.h"
 #include "aggregator/hulls/mesh_check.h"
 #include "aggregator/hulls/viewing_cone_bounds.h"
 
@@ -122,11 +123,11 @@ void TriangulateConvex(const std::vector<ChartVertex>& polygon, bool reverse, Ad
 
 // Merges the `weldable` vertices closer than `tolerance` (where more than three cone faces
 // meet, the faces name the point by different triples), drops the triangles that collapse and
-// the vertices no triangle uses.
+// the vertices no triangle uses. `mesh_index` gets each position's mesh vertex, or -1.
 TriangleMesh WeldCoincidentVertices(const std::vector<Eigen::Vector3d>& positions,
                                     const std::vector<char>& weldable,
                                     const std::vector<std::array<int32_t, 3>>& triangles,
-                                    double tolerance) {
+                                    double tolerance, std::vector<int>& mesh_index) {
   std::vector<int> order;
   for (size_t v = 0; v < positions.size(); ++v) {
     if (weldable[v]) order.push_back(static_cast<int>(v));
@@ -150,6 +151,7 @@ TriangleMesh WeldCoincidentVertices(const std::vector<Eigen::Vector3d>& position
   }
   TriangleMesh mesh;
   std::vector<int> index(positions.size(), -1);
+  mesh_index.resize(positions.size());
   for (const auto& t : triangles) {
     std::array<int32_t, 3> m;
     for (size_t k = 0; k < 3; ++k) {
@@ -162,6 +164,8 @@ TriangleMesh WeldCoincidentVertices(const std::vector<Eigen::Vector3d>& position
     }
     if (m[0] != m[1] && m[1] != m[2] && m[0] != m[2]) mesh.triangles.push_back(m);
   }
+  for (size_t v = 0; v < positions.size(); ++v)
+    mesh_index[v] = index[static_cast<size_t>(target[v])];
   return mesh;
 }
 
@@ -257,6 +261,7 @@ class HullAssembler {
       const auto add_vertex = [&](double lambda, double w) {
         positions_.push_back(region.Point(lambda, w));
         weldable_.push_back(0);  // a polygon's own centre: no other face has it
+        planes_.push_back({region.plane, -1, -1});
         return static_cast<int>(positions_.size()) - 1;
       };
       TriangulateConvex(polygon_, reverse, add_vertex, triangles_);
@@ -264,8 +269,25 @@ class HullAssembler {
   }
 
   // The mesh, with vertices closer than `tolerance` merged.
-  TriangleMesh Mesh(double tolerance) const {
-    return WeldCoincidentVertices(positions_, weldable_, triangles_, tolerance);
+  TriangleMesh Mesh(double tolerance) {
+    return WeldCoincidentVertices(positions_, weldable_, triangles_, tolerance, mesh_index_);
+  }
+
+  // The sorted cone planes each of the last mesh's `count` vertices lies on (all its names').
+  std::vector<std::vector<int>> MeshVertexPlanes(size_t count) const {
+    std::vector<std::vector<int>> planes(count);
+    for (size_t v = 0; v < positions_.size(); ++v) {
+      if (mesh_index_[v] < 0) continue;
+      std::vector<int>& list = planes[static_cast<size_t>(mesh_index_[v])];
+      for (const int plane : planes_[v]) {
+        if (plane >= 0) list.push_back(plane);
+      }
+    }
+    for (std::vector<int>& list : planes) {
+      std::sort(list.begin(), list.end());
+      list.erase(std::unique(list.begin(), list.end()), list.end());
+    }
+    return planes;
   }
   const PolyhedralHullStats& Stats() const { return stats_; }
 
@@ -294,6 +316,7 @@ class HullAssembler {
     if (inserted) {
       positions_.push_back(region.Point(lambda, w));
       weldable_.push_back(1);
+      planes_.push_back({key->a, key->b, cut ? -1 : key->c});
       Count(*key);
       if (cut) cuts_.emplace_back(EdgeKey(region.plane, line), it->second);
     }
@@ -423,7 +446,9 @@ class HullAssembler {
   std::vector<std::pair<int, Corner>> previous_, current_;            // scratch of AddCorners
   mutable std::vector<std::pair<double, ChartVertex>> ordered_cuts_;  // scratch of EdgeCuts
   std::vector<Eigen::Vector3d> positions_;
-  std::vector<char> weldable_;  // per position: a named vertex (not a polygon's centre)
+  std::vector<char> weldable_;              // per position: a named vertex (not a polygon's centre)
+  std::vector<std::array<int, 3>> planes_;  // per position: the cone planes it lies on, or -1
+  std::vector<int> mesh_index_;             // per position: its vertex in the last Mesh()
   std::vector<std::array<int32_t, 3>> triangles_;
   PolyhedralHullStats stats_;
 };
@@ -511,7 +536,15 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     result.reason = "the viewing cones do not intersect: the hull is empty";
     return result;
   }
-  const MeshCheck check = CheckClosedManifold(result.mesh);
+  MeshCheck check = CheckClosedManifold(result.mesh);
+  if (check.open_edges > 0) {
+    const GapFilling filling =
+        FillInPlaneGaps(assembler.MeshVertexPlanes(result.mesh.vertices.size()), result.mesh);
+    result.stats.gaps_filled = filling.filled;
+    result.stats.gap_area = filling.area;
+    result.stats.widest_gap = filling.widest;
+    check = CheckClosedManifold(result.mesh);
+  }
   if (!check.closed_manifold) {
     result.reason = "the polyhedral mesh is not a closed manifold: " + check.reason;
     return result;

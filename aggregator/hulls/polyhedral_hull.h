@@ -7,8 +7,10 @@
 //
 // Each cone face's region is computed on its own (cone_face_region.h); vertices are named by
 // the planes that meet there, so neighbouring faces agree on them without tolerances, and the
-// assembled mesh is checked to be closed and manifold. Near-degenerate configurations can
-// still break that; the result then says so and callers fall back to the voxel hull.
+// assembled mesh is checked to be closed and manifold. Where faces decide a near-degenerate
+// configuration differently, the gap they leave is filled in the cone plane its outline lies
+// on (in_plane_gap_filler.h); a mesh that is still not closed is reported as a failure, and
+// callers fall back to the voxel hull.
 //
 // Distortion is removed from contour points before building the cones (contour edges become
 // straight in the undistorted image).
@@ -31,6 +33,12 @@ struct PolyhedralHullStats {
   size_t viewing_edge_vertices = 0;  // a contour vertex's ray meeting another cone
   size_t triple_points = 0;          // three cone faces of three cameras meeting
   size_t edge_points = 0;            // cuts on cone-intersection edges from the sweeps
+  // Gaps between faces that decided a near-degenerate configuration differently, filled in
+  // the cone plane their outline lies on (in_plane_gap_filler.h): how many, their area (square
+  // metres) and the widest one's mean width (metres).
+  size_t gaps_filled = 0;
+  double gap_area = 0;
+  double widest_gap = 0;
 };
 
 // The hull, or why there is none.

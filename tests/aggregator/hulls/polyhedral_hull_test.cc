@@ -96,6 +96,9 @@ TEST(PolyhedralHullTest, SymmetricRingIsClosedOrReportedNeverOpen) {
   } else {
     EXPECT_FALSE(hull.reason.empty());
   }
+  std::printf("symmetric ring: %s, %zu gaps filled (%.3g mm^2)\n",
+              hull.success ? "closed" : hull.reason.c_str(), hull.stats.gaps_filled,
+              1e6 * hull.stats.gap_area);
 }
 
 TEST(PolyhedralHullTest, ReportsEmptyAndCutOffSilhouettes) {
