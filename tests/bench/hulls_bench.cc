@@ -1,16 +1,18 @@
 // Visual hull benchmarks: one frame of 8 views at 640x480 (simulated walking person), one
 // core: voxel carving at 1 cm and 2 cm, surface extraction, the exact polyhedral hull, and
-// sub-frame interpolation.
+// sub-frame interpolation; the exact hull of the real captures in the shared data folder.
 //   build/tests/bench/silnet_hulls_bench
 
 #include <benchmark/benchmark.h>
 
+#include <filesystem>
 #include <memory>
 #include <vector>
 
 #include "aggregator/hulls/boundary_mesh.h"
 #include "aggregator/hulls/hull_reprojection.h"
 #include "aggregator/hulls/polyhedral_hull.h"
+#include "aggregator/hulls/real_datasets.h"
 #include "aggregator/hulls/silhouette_interpolation.h"
 #include "aggregator/hulls/voxel_hull.h"
 #include "sim/camera_network.h"
@@ -102,6 +104,33 @@ void BM_PolyhedralHull8Views(benchmark::State& state) {
   state.counters["worst_view_extra_pct"] = 100.0 * extra;
 }
 BENCHMARK(BM_PolyhedralHull8Views)->Arg(5)->Arg(6)->Arg(10)->Unit(benchmark::kMillisecond);
+
+// Arg 0: the INRIA dancer (8 views, 780x582); 1: Tsinghua WD2 (20 views, 1024x768).
+void BM_PolyhedralHullRealCapture(benchmark::State& state) {
+  const std::filesystem::path data = SILNET_SHARED_DATA_DIR;
+  const bool wd2 = state.range(0) == 1;
+  const std::filesystem::path folder =
+      data / (wd2 ? "tsinghua-wd2-20cam" : "inria-dancer-silhouettes");
+  if (!std::filesystem::exists(folder)) {
+    state.SkipWithError("no real data beside the project");
+    return;
+  }
+  RealCapture capture = wd2 ? LoadTsinghuaWd2(folder, false) : LoadInriaDancer(folder);
+  if (!wd2) {
+    for (cv::Mat& mask : capture.masks)
+      mask = KeepLargestComponent(mask);
+  }
+  PolyhedralHullResult hull;
+  for (auto _ : state) {
+    hull = ComputePolyhedralHull(capture.cameras, capture.masks);
+    if (!hull.success) state.SkipWithError(hull.reason.c_str());
+    benchmark::DoNotOptimize(hull.mesh.triangles.size());
+  }
+  state.counters["triangles"] = static_cast<double>(hull.mesh.triangles.size());
+  state.counters["cone_faces"] = static_cast<double>(hull.stats.cone_faces);
+  state.counters["gaps_filled"] = static_cast<double>(hull.stats.gaps_filled);
+}
+BENCHMARK(BM_PolyhedralHullRealCapture)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_InterpolateSilhouette640x480(benchmark::State& state) {
   const Frame& frame = TheFrame();
