@@ -204,6 +204,7 @@ struct IngestService::Impl {
       case StoreResult::kStored:
         ++t.status.contours;
         ReportStoreRecovered();
+        if (options.on_contour_stored) options.on_contour_stored(record);
         break;
       case StoreResult::kFailed:
         ++t.status.store_failures;
@@ -448,8 +449,10 @@ void IngestService::Flush() {
 }
 
 void IngestService::WriteSummary(const std::filesystem::path& path) const {
-  cv::FileStorage fs(path.string(), cv::FileStorage::WRITE);
-  if (!fs.isOpened()) throw InputError("cannot write " + path.string());
+  // Written beside the file and renamed over it, so a reader never sees half of it.
+  const std::filesystem::path partial = path.string() + ".partial";
+  cv::FileStorage fs(partial.string(), cv::FileStorage::WRITE);
+  if (!fs.isOpened()) throw InputError("cannot write " + partial.string());
   fs << "cameras"
      << "[";
   for (const CameraIngestStatus& c : Status()) {
@@ -476,6 +479,10 @@ void IngestService::WriteSummary(const std::filesystem::path& path) const {
   fs << "contours_overdue" << static_cast<double>(totals.contours_overdue);
   fs << "dds_samples_lost" << static_cast<double>(totals.dds_samples_lost);
   fs << "dds_samples_rejected" << static_cast<double>(totals.dds_samples_rejected);
+  fs.release();
+  std::error_code error;
+  std::filesystem::rename(partial, path, error);
+  if (error) throw InputError(fmt::format("cannot write {}: {}", path.string(), error.message()));
 }
 
 }  // namespace silnet::aggregator

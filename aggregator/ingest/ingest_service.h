@@ -33,6 +33,8 @@ struct IngestOptions {
   // Called (from Poll) with every hull frame of a camera's newest session once it is stored,
   // for consumers that follow the streams in memory; may be empty.
   std::function<void(const FrameRecord&)> on_hull_stored;
+  // The same for every Contour record once it is stored (of any session); may be empty.
+  std::function<void(const FrameRecord&)> on_contour_stored;
 };
 
 // Counters of one camera.

@@ -63,6 +63,13 @@ void ExpectEveryFrameHeld(const std::filesystem::path& sessions_dir) {
     ASSERT_EQ(sessions[0].hulls[i].frame_index, i);
 }
 
+// cam00's frames held by the ingest whose status file is `path` (0 until it is written).
+double FramesHeld(const std::filesystem::path& path) {
+  cv::FileStorage status(path.string(), cv::FileStorage::READ);
+  if (!status.isOpened() || status["cameras"].size() == 0) return 0;
+  return static_cast<double>(status["cameras"][0]["frames_held"]);
+}
+
 TEST(IngestFaults, AStalledNodeIsReportedAndLosesNothing) {
   testing::TempDir work;
   testing::ChildProcess aggregator(kAggregator,
@@ -71,7 +78,11 @@ TEST(IngestFaults, AStalledNodeIsReportedAndLosesNothing) {
                                    work.path());
   std::this_thread::sleep_for(milliseconds(500));
   auto node = StartNode(work, "1");
-  std::this_thread::sleep_for(seconds(2));
+  // Stopped once its stream runs (on a loaded machine the node may take seconds to start).
+  const auto deadline = std::chrono::steady_clock::now() + seconds(30);
+  while (FramesHeld(work / "agg/ingest_summary.yaml") <= 10.0 &&
+         std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(milliseconds(200));
   node->Signal(SIGSTOP);
   std::this_thread::sleep_for(seconds(4));
   // The status file written while ingest runs shows the node silent and its stream stalled.
