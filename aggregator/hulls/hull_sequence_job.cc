@@ -298,6 +298,11 @@ size_t ReferenceCameraIndex(const std::vector<CameraModel>& cameras) {
 }
 
 HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config, Progress* progress) {
+  return RunHullSequenceJob(config, *OpenSilhouetteSource(config.input), progress);
+}
+
+HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config,
+                                      const SilhouetteSource& silhouettes, Progress* progress) {
   const auto start = std::chrono::steady_clock::now();
   std::string why;
   if (!config.options.IsValid(&why)) throw InputError(why);
@@ -306,8 +311,6 @@ HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config, Progress
                                  config.first_frame, config.last_frame));
   }
   const std::vector<CameraModel> cameras = LoadCalibration(config.calibration);
-  const std::unique_ptr<SilhouetteSource> source = OpenSilhouetteSource(config.input);
-  const SilhouetteSource& silhouettes = *source;
   CheckCameras(silhouettes, cameras, config.calibration);
 
   const CameraModel& reference = cameras[ReferenceCameraIndex(cameras)];

@@ -91,6 +91,13 @@ struct HullSequenceResult {
 // data. `progress` (may be null) counts frames and is polled for cancellation between frames.
 HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config, Progress* progress);
 
+class SilhouetteSource;
+
+// The same with the silhouettes from `silhouettes` rather than from config.input (which the
+// index still names as the input), e.g. contours a live run holds in memory.
+HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config,
+                                      const SilhouetteSource& silhouettes, Progress* progress);
+
 // Writes OUT/hulls.yaml, the sequence index of `result` (config.output is OUT). Throws
 // InputError if it cannot be written.
 void WriteHullIndex(const HullSequenceConfig& config, const HullSequenceResult& result);

@@ -88,13 +88,7 @@ class SessionSilhouettes : public SilhouetteSource {
           "hulls of every frame)",
           Where(camera.id, frame)));
     }
-    SilhouetteContours contours;
-    std::string error;
-    if (!DecodeContours(record->payload, record->width, record->height, &contours, &error))
-      throw InputError(fmt::format("{}: {}", Where(camera.id, frame), error));
-    cv::Mat mask = RasteriseContours(contours, record->width, record->height);
-    CheckSize(mask, camera, Where(camera.id, frame));
-    return mask;
+    return ContourRecordMask(*record, camera, Where(camera.id, frame));
   }
   std::string Where(const std::string& camera, int frame) const override {
     auto it = cameras_.find(camera);
@@ -119,6 +113,17 @@ std::unique_ptr<SilhouetteSource> OpenSilhouetteSource(const std::filesystem::pa
     if (!SessionLogCameras(dir).empty()) return std::make_unique<SessionSilhouettes>(dir);
   }
   return std::make_unique<DatasetSilhouettes>(input);
+}
+
+cv::Mat ContourRecordMask(const FrameRecord& record, const CameraModel& camera,
+                          const std::string& where) {
+  SilhouetteContours contours;
+  std::string error;
+  if (!DecodeContours(record.payload, record.width, record.height, &contours, &error))
+    throw InputError(fmt::format("{}: {}", where, error));
+  cv::Mat mask = RasteriseContours(contours, record.width, record.height);
+  CheckSize(mask, camera, where);
+  return mask;
 }
 
 cv::Mat RasteriseContours(const SilhouetteContours& contours, int width, int height) {

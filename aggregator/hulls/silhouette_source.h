@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "shared/geometry/camera_model.h"
+#include "shared/io/frame_record.h"
 #include "shared/silhouette/silhouette_contour.h"
 
 namespace silnet::aggregator {
@@ -37,6 +38,11 @@ class SilhouetteSource {
 // Opens a session store (session logs in `input` or `input`/sessions) or else a dataset
 // folder. Throws InputError if a session log cannot be read.
 std::unique_ptr<SilhouetteSource> OpenSilhouetteSource(const std::filesystem::path& input);
+
+// The mask of a Contour record (the node's contour encoding) of `camera`. Throws InputError
+// naming `where` if the record does not decode or is not of the calibration's size.
+cv::Mat ContourRecordMask(const FrameRecord& record, const CameraModel& camera,
+                          const std::string& where);
 
 // Rasterises decoded contours into a `width` x `height` mask: a pixel is 255 iff its centre
 // lies inside some polygon (inside its outer ring and outside its holes).

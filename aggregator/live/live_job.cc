@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "aggregator/calibration/calibration_publisher.h"
+#include "aggregator/live/recent_contours.h"
 #include "aggregator/live/recent_silhouettes.h"
 #include "shared/io/calibration_yaml.h"
 #include "shared/util/check.h"
@@ -71,7 +72,8 @@ class LiveJob {
       : options_(options),
         stop_(stop),
         recalibrate_(recalibrate),
-        ingest_(IngestOptionsFor(options, &recent_)),
+        contours_(options.output / "session" / "sessions"),
+        ingest_(IngestOptionsFor(options, &recent_, &contours_)),
         watch_(
             options.motion,
             [this](uint64_t first, uint64_t count) { return FrameWindow(first, count); },
@@ -138,13 +140,17 @@ class LiveJob {
   }
 
  private:
-  static IngestOptions IngestOptionsFor(const LiveJobOptions& options, RecentSilhouettes* recent) {
+  static IngestOptions IngestOptionsFor(const LiveJobOptions& options, RecentSilhouettes* recent,
+                                        RecentContours* contours) {
     IngestOptions ingest;
     ingest.store_dir = options.output / "session" / "sessions";
     ingest.domain = options.domain;
     // The camera motion watch works on the newest frames, held in memory.
     if (options.motion.window_frames > 0)
       ingest.on_hull_stored = [recent](const FrameRecord& record) { recent->Add(record); };
+    // So do the hull batches, on the newest contours.
+    if (options.hull_frames > 0)
+      ingest.on_contour_stored = [contours](const FrameRecord& record) { contours->Add(record); };
     return ingest;
   }
 
@@ -381,6 +387,21 @@ class LiveJob {
     return static_cast<int>(std::ceil(camera.FrameAt(reference.ExposureTime(frame)))) + 1;
   }
 
+  // The first frame of `camera` the hull of reference frame `frame` needs (the one before
+  // too, whether the frame is interpolated or the nearest is taken).
+  uint64_t FirstNeededFrame(const CameraModel& camera, int frame) const {
+    const CameraModel& reference = hull_cameras_[ReferenceCameraIndex(hull_cameras_)];
+    const double first = std::floor(camera.FrameAt(reference.ExposureTime(frame))) - 1;
+    return first > 0 ? static_cast<uint64_t>(first) : 0;
+  }
+
+  // True if every calibrated camera's contours the next batch needs are held in memory.
+  bool ContoursInMemory() const {
+    return std::all_of(hull_cameras_.begin(), hull_cameras_.end(), [&](const CameraModel& c) {
+      return contours_.Holds(c.id, FirstNeededFrame(c, hull_next_));
+    });
+  }
+
   // Reference frames [first, first + n) can be built once every calibrated camera holds the
   // frames they need with their contours; if the streams end first, fewer frames are built.
   bool ReadyForHulls(const std::vector<CameraIngestStatus>& cameras, double idle) {
@@ -427,13 +448,19 @@ class LiveJob {
     // Later batches keep the first batch's voxel size.
     if (result_.hulls) config.options.voxel_size = result_.hulls->voxel_size;
     hull_config_ = config;
-    spdlog::info("live: building the hulls of frames {}..{}", config.first_frame,
-                 config.last_frame - 1);
+    // Contours received by this run are read from memory; after a restart of the aggregator
+    // the first batches may need contours stored before it, read from the session logs.
+    const bool in_memory = ContoursInMemory();
+    spdlog::info("live: building the hulls of frames {}..{} (contours from {})", config.first_frame,
+                 config.last_frame - 1, in_memory ? "memory" : "the session logs");
     progress_ =
         std::make_unique<Progress>("hulls", 0, ConsoleProgressPrinter(), std::chrono::seconds(5));
     Progress* progress = progress_.get();
-    hulls_future_ = std::async(std::launch::async,
-                               [config, progress] { return RunHullSequenceJob(config, progress); });
+    const RecentContours* contours = in_memory ? &contours_ : nullptr;
+    hulls_future_ = std::async(std::launch::async, [config, progress, contours] {
+      return contours ? RunHullSequenceJob(config, *contours, progress)
+                      : RunHullSequenceJob(config, progress);
+    });
     stage_ = Stage::kBuildingHulls;
   }
 
@@ -459,7 +486,13 @@ class LiveJob {
     }
     hull_next_ += hull_count_;
     hull_count_ = options_.hull_frames;
-    if (HullsOngoing()) stage_ = Stage::kWaitingForHullFrames;
+    if (!HullsOngoing()) {
+      contours_.Close();
+      return;
+    }
+    for (const CameraModel& camera : hull_cameras_)
+      contours_.DropBefore(camera.id, FirstNeededFrame(camera, hull_next_));
+    stage_ = Stage::kWaitingForHullFrames;
   }
 
   void Fail(const std::string& why) {
@@ -484,6 +517,7 @@ class LiveJob {
   std::function<bool()> recalibrate_;
   int recalibration_first_ = 0;
   RecentSilhouettes recent_;  // before ingest_, which feeds it
+  RecentContours contours_;   // the same; outlives the hull batch reading it
   IngestService ingest_;
   CameraMotionWatch watch_;
   std::unique_ptr<dds::Participant> participant_;

@@ -107,6 +107,9 @@ TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsAndReport) {
   const int built = static_cast<int>(hulls["built"]);
   EXPECT_GE(built, 40);
   EXPECT_EQ(static_cast<int>(hulls["frames"]), built);
+  // Every batch read the contours this run received from memory, none the session logs.
+  EXPECT_NE(live.Stderr().find("(contours from memory)"), std::string::npos) << live.Stderr();
+  EXPECT_EQ(live.Stderr().find("(contours from the session logs)"), std::string::npos);
   for (int frame = 420; frame < 420 + built; ++frame) {
     char name[32];
     std::snprintf(name, sizeof(name), "frame_%06d.ply", frame);

@@ -20,6 +20,7 @@
 #include "aggregator/hulls/real_datasets.h"
 #include "aggregator/hulls/viewing_cone_bounds.h"
 #include "aggregator/hulls/voxel_hull.h"
+#include "aggregator/live/recent_contours.h"
 #include "shared/io/calibration_yaml.h"
 #include "shared/io/dataset_layout.h"
 #include "shared/io/frame_record.h"
@@ -254,8 +255,23 @@ TEST(HullSequenceJobTest, WritesMeshesIndexAndOverlays) {
               result.frames[0].views[0].missed_fraction, 1e-12);
 }
 
+// A camera's mask of frame `k` in a dataset as the Contour record its node would send
+// (session 7).
+FrameRecord ContourRecord(const DatasetLayout& layout, const CameraModel& camera, int k) {
+  const cv::Mat mask = cv::imread(layout.MaskPath(camera.id, k).string(), cv::IMREAD_GRAYSCALE);
+  SILNET_CHECK(!mask.empty());
+  FrameRecord record;
+  record.camera_id = camera.id;
+  record.session = 7;
+  record.frame_index = static_cast<uint64_t>(k);
+  record.width = static_cast<uint16_t>(mask.cols);
+  record.height = static_cast<uint16_t>(mask.rows);
+  record.payload = EncodeContours(ExtractContours(mask));
+  return record;
+}
+
 // Writes a session store as the live aggregator holds it: every camera's masks as Contour
-// records (the node's contour encoding), frame indices 0..frames-1, minus `skip`.
+// records, frame indices 0..frames-1, minus `skip`.
 void WriteContourStore(const std::filesystem::path& dataset,
                        const std::vector<CameraModel>& cameras, int frames,
                        const std::filesystem::path& store, int skip = -1) {
@@ -266,18 +282,9 @@ void WriteContourStore(const std::filesystem::path& dataset,
     ASSERT_TRUE(writer.Open(SessionLogPath(store, camera.id), kSessionLogStreamKind).ok());
     for (int k = 0; k < frames; ++k) {
       if (k == skip) continue;
-      const cv::Mat mask = cv::imread(layout.MaskPath(camera.id, k).string(), cv::IMREAD_GRAYSCALE);
-      ASSERT_FALSE(mask.empty());
-      FrameRecord record;
-      record.camera_id = camera.id;
-      record.session = 7;
-      record.frame_index = static_cast<uint64_t>(k);
-      record.width = static_cast<uint16_t>(mask.cols);
-      record.height = static_cast<uint16_t>(mask.rows);
-      record.payload = EncodeContours(ExtractContours(mask));
       ASSERT_TRUE(writer
                       .Append(static_cast<uint16_t>(SessionRecordType::kContour),
-                              SerializeFrameRecord(record))
+                              SerializeFrameRecord(ContourRecord(layout, camera, k)))
                       .ok());
     }
   }
@@ -303,6 +310,40 @@ TEST(HullSequenceJobTest, ASessionStoresContoursGiveTheHullsOfTheMasks) {
   EXPECT_LE(from_store.MeanMissed(), 0.01);
   std::printf("session store hulls: missed %.3f %% (masks %.3f %%)\n",
               100 * from_store.MeanMissed(), 100 * from_masks.MeanMissed());
+}
+
+TEST(HullSequenceJobTest, ContoursHeldInMemoryGiveTheHullsOfTheStore) {
+  const SimulatedDataset data;
+  const std::filesystem::path store = data.dir / "store" / "sessions";
+  WriteContourStore(data.dir / "data", data.cameras, 16, store);
+  HullSequenceConfig config = data.Config(5, 8);
+  config.input = data.dir / "store";
+  const HullSequenceResult from_store = RunHullSequenceJob(config, nullptr);
+  // As the live job holds them: only the frames the batch needs, the rest dropped.
+  RecentContours held(store);
+  const DatasetLayout layout(data.dir / "data");
+  for (const CameraModel& camera : data.cameras) {
+    for (int k = 0; k < 16; ++k)
+      held.Add(ContourRecord(layout, camera, k));
+    held.DropBefore(camera.id, 1);
+  }
+  config.output = data.dir / "out-memory";
+  const HullSequenceResult from_memory = RunHullSequenceJob(config, held, nullptr);
+  ASSERT_EQ(from_memory.frames.size(), from_store.frames.size());
+  for (size_t f = 0; f < from_store.frames.size(); ++f) {
+    ASSERT_TRUE(from_memory.frames[f].success) << from_memory.frames[f].reason;
+    EXPECT_EQ(from_memory.frames[f].triangles, from_store.frames[f].triangles);
+    EXPECT_EQ(from_memory.frames[f].volume_m3, from_store.frames[f].volume_m3);
+  }
+  // A frame the batch needs that was dropped is a clear error, not a hole in the hull.
+  for (const CameraModel& camera : data.cameras)
+    held.DropBefore(camera.id, 8);
+  try {
+    RunHullSequenceJob(config, held, nullptr);
+    ADD_FAILURE() << "the frames were dropped, yet the job ran";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("in memory"), std::string::npos) << e.what();
+  }
 }
 
 TEST(HullSequenceJobTest, AFrameWithoutContourIsAClearError) {
