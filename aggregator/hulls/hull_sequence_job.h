@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "aggregator/hulls/hull_reprojection.h"
+#include "aggregator/hulls/silhouette_source.h"
 #include "shared/util/progress.h"
 
 namespace silnet::aggregator {
@@ -90,8 +91,6 @@ struct HullSequenceResult {
 // or out-of-range frame range, and unreadable or missing silhouettes. Per-frame failures are
 // data. `progress` (may be null) counts frames and is polled for cancellation between frames.
 HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config, Progress* progress);
-
-class SilhouetteSource;
 
 // The same with the silhouettes from `silhouettes` rather than from config.input (which the
 // index still names as the input), e.g. contours a live run holds in memory.

@@ -58,8 +58,8 @@ bool TraceBoundaryLoops(const std::vector<uint64_t>& edges,
   };
   std::vector<int32_t> path;
   std::unordered_map<int32_t, size_t> position;  // of each vertex on `path`
-  for (auto& [start, unused] : out) {
-    while (!unused.empty()) {
+  for (auto& [start, leaving_start] : out) {
+    while (!leaving_start.empty()) {
       path.assign(1, start);
       position = {{start, 0}};
       for (;;) {
@@ -159,15 +159,23 @@ double FillLeastArea(const std::vector<int32_t>& polygon, const std::vector<uint
 
 GapFilling FillInPlaneGaps(const std::vector<std::vector<int>>& vertex_planes, TriangleMesh& mesh) {
   GapFilling filling;
-  const std::vector<uint64_t> edges = DirectedEdges(mesh);
+  std::vector<uint64_t> edges = DirectedEdges(mesh);
   std::vector<std::vector<int32_t>> loops;
   if (!TraceBoundaryLoops(edges, vertex_planes, loops)) return filling;
   filling.loops = loops.size();
   for (std::vector<int32_t>& loop : loops) {
     if (loop.size() < 3 || loop.size() > kLongestLoop || !SharePlane(vertex_planes, loop)) continue;
     std::reverse(loop.begin(), loop.end());  // the filling runs against the open edges
+    const size_t before = mesh.triangles.size();
     const double area = FillLeastArea(loop, edges, mesh);
     if (area < 0) continue;
+    // The patch's edges count for the loops after it (none may use them as a diagonal again).
+    for (size_t t = before; t < mesh.triangles.size(); ++t) {
+      for (size_t k = 0; k < 3; ++k) {
+        const uint64_t edge = DirectedEdge(mesh.triangles[t][k], mesh.triangles[t][(k + 1) % 3]);
+        edges.insert(std::upper_bound(edges.begin(), edges.end(), edge), edge);
+      }
+    }
     ++filling.filled;
     filling.area += area;
     double perimeter = 0;

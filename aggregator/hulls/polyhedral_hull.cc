@@ -121,16 +121,17 @@ void TriangulateConvex(const std::vector<ChartVertex>& polygon, bool reverse, Ad
     emit(centre, polygon[k].vertex, polygon[(k + 1) % n].vertex);
 }
 
-// Merges the `weldable` vertices closer than `tolerance` (where more than three cone faces
-// meet, the faces name the point by different triples), drops the triangles that collapse and
-// the vertices no triangle uses. `mesh_index` gets each position's mesh vertex, or -1.
+// Merges the named vertices (on two or more of their `planes`, not a polygon's own centre)
+// closer than `tolerance` (where more than three cone faces meet, the faces name the point by
+// different triples), drops the triangles that collapse and the vertices no triangle uses.
+// `mesh_index` gets each position's mesh vertex, or -1.
 TriangleMesh WeldCoincidentVertices(const std::vector<Eigen::Vector3d>& positions,
-                                    const std::vector<char>& weldable,
+                                    const std::vector<std::array<int, 3>>& planes,
                                     const std::vector<std::array<int32_t, 3>>& triangles,
                                     double tolerance, std::vector<int>& mesh_index) {
   std::vector<int> order;
   for (size_t v = 0; v < positions.size(); ++v) {
-    if (weldable[v]) order.push_back(static_cast<int>(v));
+    if (planes[v][1] >= 0) order.push_back(static_cast<int>(v));
   }
   std::sort(order.begin(), order.end(), [&](int x, int y) {
     return positions[static_cast<size_t>(x)].x() < positions[static_cast<size_t>(y)].x();
@@ -260,8 +261,7 @@ class HullAssembler {
         polygon_.pop_back();
       const auto add_vertex = [&](double lambda, double w) {
         positions_.push_back(region.Point(lambda, w));
-        weldable_.push_back(0);  // a polygon's own centre: no other face has it
-        planes_.push_back({region.plane, -1, -1});
+        planes_.push_back({region.plane, -1, -1});  // a polygon's own centre: only this face
         return static_cast<int>(positions_.size()) - 1;
       };
       TriangulateConvex(polygon_, reverse, add_vertex, triangles_);
@@ -270,7 +270,7 @@ class HullAssembler {
 
   // The mesh, with vertices closer than `tolerance` merged.
   TriangleMesh Mesh(double tolerance) {
-    return WeldCoincidentVertices(positions_, weldable_, triangles_, tolerance, mesh_index_);
+    return WeldCoincidentVertices(positions_, planes_, triangles_, tolerance, mesh_index_);
   }
 
   // The sorted cone planes each of the last mesh's `count` vertices lies on (all its names').
@@ -315,7 +315,6 @@ class HullAssembler {
     const auto [it, inserted] = ids_.try_emplace(*key, static_cast<int>(positions_.size()));
     if (inserted) {
       positions_.push_back(region.Point(lambda, w));
-      weldable_.push_back(1);
       planes_.push_back({key->a, key->b, cut ? -1 : key->c});
       Count(*key);
       if (cut) cuts_.emplace_back(EdgeKey(region.plane, line), it->second);
@@ -446,7 +445,6 @@ class HullAssembler {
   std::vector<std::pair<int, Corner>> previous_, current_;            // scratch of AddCorners
   mutable std::vector<std::pair<double, ChartVertex>> ordered_cuts_;  // scratch of EdgeCuts
   std::vector<Eigen::Vector3d> positions_;
-  std::vector<char> weldable_;              // per position: a named vertex (not a polygon's centre)
   std::vector<std::array<int, 3>> planes_;  // per position: the cone planes it lies on, or -1
   std::vector<int> mesh_index_;             // per position: its vertex in the last Mesh()
   std::vector<std::array<int32_t, 3>> triangles_;
