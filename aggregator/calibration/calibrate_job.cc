@@ -5,10 +5,12 @@
 #include <chrono>
 #include <opencv2/core/persistence.hpp>
 
+#include "aggregator/calibration/frontier_rematching.h"
 #include "aggregator/report/calibration_report.h"
 #include "aggregator/report/colmap_export.h"
 #include "shared/io/calibration_yaml.h"
 #include "shared/util/check.h"
+#include "shared/util/parallel_for.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -44,20 +46,46 @@ std::vector<CameraModel> CameraTemplates(const std::vector<SilhouetteSequence>& 
   return cameras;
 }
 
+// Puts the known lens distortion back on a network calibrated on undistorted silhouettes:
+// the cameras get their distortion again and the frontier observations their raw pixels.
+void RestoreDistortion(const std::vector<CameraModel>& cameras, NetworkCalibration* calibration) {
+  for (size_t c = 0; c < cameras.size(); ++c)
+    calibration->cameras[c].dist = cameras[c].dist;
+  for (FrontierPoint& point : calibration->points) {
+    for (FrontierObservation& o : point.views)
+      o.pixel = DistortPixel(cameras[o.camera], o.pixel);
+  }
+}
+
 }  // namespace
 
 CalibrateJobResult RunCalibrateJob(const CalibrateJobConfig& config, Progress* progress) {
   const auto start = std::chrono::steady_clock::now();
+  if (!config.ground_truth.empty() && !std::filesystem::exists(config.ground_truth))
+    throw InputError(config.ground_truth.string() + ": no such ground-truth calibration");
   SequenceLoadOptions load;
   load.first_frame = config.first_frame;
   load.max_frames = config.max_frames;
   load.allow_warmup = config.pairwise.pair.allow_warmup;
   load.threads = config.pairwise.threads;
+  load.mask_video = config.mask_video;
   SequenceSource source = SequenceSource::kSessionLogs;
-  const std::vector<SilhouetteSequence> sequences = LoadSequences(config.input, load, &source);
+  std::vector<SilhouetteSequence> sequences = LoadSequences(config.input, load, &source);
   if (sequences.size() < 3)
     throw InputError(config.input.string() + ": a network calibration needs at least 3 cameras");
   const std::vector<CameraModel> cameras = CameraTemplates(sequences, config.intrinsics);
+  // Known lens distortion is taken out of the silhouettes before any estimation: the pairwise
+  // and network stages then fit pinhole geometry, and the distortion is put back at the end.
+  std::vector<CameraModel> pinhole = cameras;
+  const bool undistort =
+      std::any_of(cameras.begin(), cameras.end(), [](const auto& c) { return c.HasDistortion(); });
+  if (undistort) {
+    ParallelFor(sequences.size(), 0, [&](size_t c) {
+      sequences[c] = UndistortSequence(sequences[c], cameras[c]);
+      pinhole[c].dist.setZero();
+    });
+    spdlog::info("silhouettes undistorted with the given intrinsics before estimation");
+  }
   std::filesystem::create_directories(config.output);
 
   CalibrateJobResult result;
@@ -81,10 +109,12 @@ CalibrateJobResult RunCalibrateJob(const CalibrateJobConfig& config, Progress* p
 
   CalibrationOptions options = config.calibration;
   options.known_intrinsics = !config.intrinsics.empty();
-  result.calibration = CalibrateNetwork(cameras, result.pairs.pairs, &sequences, options, progress);
+  result.calibration = CalibrateNetwork(pinhole, result.pairs.pairs, &sequences, options, progress);
+  if (undistort) RestoreDistortion(cameras, &result.calibration);
   const NetworkCalibration& calibration = result.calibration;
 
-  const std::filesystem::path truth = config.input / "ground_truth.yaml";
+  const std::filesystem::path truth =
+      config.ground_truth.empty() ? config.input / "ground_truth.yaml" : config.ground_truth;
   if (config.compare_ground_truth && std::filesystem::exists(truth) &&
       calibration.PlacedCount() >= 3) {
     // A simulated capture may have cameras that moved: compare with them as they were when

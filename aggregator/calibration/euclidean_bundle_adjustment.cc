@@ -142,6 +142,11 @@ struct SolveOutcome {
   bool usable = false;
 };
 
+// Whether camera c's fy is tied to fx: intrinsics held as given keep their own fy.
+bool SquarePixels(const IntrinsicsModel& model, const MetricScene& scene, size_t c) {
+  return model.square_pixels && !model.fixed && !scene.Held(c);
+}
+
 SolveOutcome Solve(MetricScene* scene, const IntrinsicsModel& model, const BundleOptions& options) {
   const size_t n = scene->cameras.size();
   bool any_held = false;
@@ -164,7 +169,7 @@ SolveOutcome Solve(MetricScene* scene, const IntrinsicsModel& model, const Bundl
     const TwoViewTrack& t = scene->tracks[k];
     for (const auto& [camera, x] : {std::pair{t.camera_a, t.x_a}, std::pair{t.camera_b, t.x_b}}) {
       auto* cost = new ceres::AutoDiffCostFunction<ReprojectionResidual, 2, kIntrinsics, kPose, 3>(
-          new ReprojectionResidual{x, model.square_pixels});
+          new ReprojectionResidual{x, SquarePixels(model, *scene, camera)});
       problem.AddResidualBlock(cost, &loss, intrinsics[camera].data(), poses[camera].data(),
                                scene->points[k].data());
     }
@@ -210,7 +215,7 @@ SolveOutcome Solve(MetricScene* scene, const IntrinsicsModel& model, const Bundl
   spdlog::debug("Euclidean bundle adjustment: {}", summary.BriefReport());
   for (size_t c = 0; c < n; ++c) {
     if (scene->present[c])
-      FromBlocks(intrinsics[c], poses[c], model.square_pixels, &scene->cameras[c]);
+      FromBlocks(intrinsics[c], poses[c], SquarePixels(model, *scene, c), &scene->cameras[c]);
   }
   outcome.initial_cost = summary.initial_cost;
   outcome.iterations = static_cast<int>(summary.iterations.size());

@@ -6,7 +6,11 @@
 #include <chrono>
 #include <map>
 
+#include "aggregator/calibration/ambiguity_resolution.h"
+#include "aggregator/calibration/calibration_gates.h"
+#include "aggregator/calibration/focal_search.h"
 #include "aggregator/calibration/frontier_rematching.h"
+#include "aggregator/calibration/global_start.h"
 #include "aggregator/calibration/metric_scene_setup.h"
 #include "aggregator/calibration/pair_checks.h"
 #include "aggregator/calibration/self_calibration.h"
@@ -139,6 +143,59 @@ ViewGraph RematchedGraph(const MetricScene& scene,
   return graph;
 }
 
+// Makes each pair's candidate that agreed with the global start its solution; usable pairs
+// that disagree are no longer trusted.
+void ApplyGlobalChoice(const GlobalStart& global, std::vector<PairwiseResult>* pairs) {
+  for (size_t p = 0; p < pairs->size(); ++p) {
+    PairwiseResult& pair = (*pairs)[p];
+    if (pair.status != PairStatus::kOk && pair.status != PairStatus::kAmbiguous) continue;
+    const int c = global.candidate[p];
+    if (c < 0) {
+      pair.status = PairStatus::kDegenerate;
+      pair.reason = "its relative pose disagrees with the network's rotations and baselines";
+      continue;
+    }
+    const std::string why = fmt::format(
+        "agrees with the network's rotations to {:.2f} deg{}", global.rotation_error_deg[p],
+        pair.status == PairStatus::kAmbiguous
+            ? fmt::format(" (candidate {} of {})", c + 1, pair.alternatives.size() + 1)
+            : "");
+    if (c == 0) {
+      pair.status = PairStatus::kOk;
+      pair.reason = pair.reason.empty() ? "" : why;
+    } else {
+      pair.Choose(static_cast<size_t>(c - 1), why);
+    }
+  }
+}
+
+// The metric scene of a global start, adjusted with the intrinsics held.
+PoseChain SceneFromGlobalStart(const GlobalStart& global, const ViewGraph& graph,
+                               const std::vector<CameraModel>& cameras,
+                               const KnownIntrinsicsOptions& options) {
+  PoseChain chain;
+  MetricScene& s = chain.scene;
+  s.present = global.present;
+  s.cameras = cameras;
+  chain.added_by.assign(cameras.size(), "");
+  chain.reasons.assign(cameras.size(), "");
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    if (!s.present[c]) {
+      chain.reasons[c] = "fewer than two of its pairs agree with the network's rotations";
+      continue;
+    }
+    s.cameras[c].R = global.R[c];
+    s.cameras[c].t = -global.R[c] * global.C[c];
+    chain.added_by[c] = "rotation averaging";
+  }
+  s.tracks = CollectTracks(graph, s.present, options.tracks_per_link);
+  s.Triangulate();
+  IntrinsicsModel fixed;
+  fixed.fixed = true;
+  chain.last_bundle = AdjustEuclidean(&s, fixed, options.bundle, options.max_added_rms_px);
+  return chain;
+}
+
 // Per-camera errors, frontier points and the calibrated cameras, from the final scene.
 void FillResult(const MetricScene& scene, const SyncResult& sync, NetworkCalibration* out) {
   const size_t n = scene.cameras.size();
@@ -200,11 +257,12 @@ std::string CalibrationOptions::Validate() const {
   if (!(bundle.loss_px > 0.0) || bundle.max_iterations < 1)
     return "bundle adjustment needs a positive loss scale and at least one iteration";
   if (!(corrected_px > 0.0)) return "the correction threshold must be positive";
+  if (const std::string why = gates.Validate(); !why.empty()) return why;
   return "";
 }
 
 NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
-                                    const std::vector<PairwiseResult>& pairs,
+                                    const std::vector<PairwiseResult>& estimated_pairs,
                                     const std::vector<SilhouetteSequence>* sequences,
                                     const CalibrationOptions& options, Progress* progress) {
   if (const std::string why = options.Validate(); !why.empty())
@@ -219,16 +277,48 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
     ids.push_back(c.id);
 
   auto start = Clock::now();
+  std::vector<PairwiseResult> pairs = estimated_pairs;
+  // With known intrinsics the relative rotations pick each pair's candidate (and start the
+  // poses); otherwise the triplets of fundamental matrices resolve what they can.
+  GlobalStart global;
+  if (options.known_intrinsics) {
+    global = EstimateGlobalStart(cameras, pairs, options.global);
+    out.stages.push_back(
+        {"rotation averaging", 0.0, SecondsSince(start),
+         global.ok ? fmt::format("{} cameras, {} pairs agree",
+                                 std::count(global.present.begin(), global.present.end(), true),
+                                 std::count_if(global.candidate.begin(), global.candidate.end(),
+                                               [](int c) { return c >= 0; }))
+                   : global.reason});
+    if (global.ok) ApplyGlobalChoice(global, &pairs);
+  }
+  if (!global.ok) {
+    const std::vector<AmbiguityDecision> decisions =
+        ResolveAmbiguousPairs(cameras, &pairs, options.ambiguity);
+    const auto resolved = std::count_if(decisions.begin(), decisions.end(),
+                                        [](const AmbiguityDecision& d) { return d.resolved; });
+    out.stages.push_back(
+        {"ambiguous pairs", 0.0, SecondsSince(start),
+         fmt::format("{} of {} resolved by triplet consistency", resolved, decisions.size())});
+  }
+  start = Clock::now();
   out.sync = SynchroniseNetwork(n, OffsetEdges(cameras, pairs), options.sync);
   out.stages.push_back({"synchronisation", 0.0, SecondsSince(start),
                         fmt::format("rms residual {:.3f} frames ({:.2f} sigma)",
                                     out.sync.rms_residual, out.sync.rms_normalised)});
 
-  const ViewGraph graph = BuildViewGraph(ids, pairs);
+  ViewGraph graph = BuildViewGraph(ids, pairs);
   std::optional<MetricScene> scene;
   std::vector<std::string> added_by(n), reasons(n);
   start = Clock::now();
-  if (options.known_intrinsics) {
+  if (global.ok) {
+    PoseChain start_scene = SceneFromGlobalStart(global, graph, cameras, options.known);
+    out.stages.push_back(
+        {"poses from rotation averaging", start_scene.last_bundle.rms_px, SecondsSince(start), ""});
+    added_by = start_scene.added_by;
+    reasons = start_scene.reasons;
+    scene = std::move(start_scene.scene);
+  } else if (options.known_intrinsics) {
     PoseChain chain = ChainKnownIntrinsics(graph, cameras, options.known, progress);
     out.stages.push_back(
         {"poses from essential matrices", chain.last_bundle.rms_px, SecondsSince(start), ""});
@@ -249,12 +339,43 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
       const auto upgrade =
           SelfCalibrateLinear(projective.scene.cameras, projective.scene.present, &why);
       if (upgrade) scene = UpgradeToMetric(projective.scene, *upgrade, cameras, &why);
+      if (scene) {
+        // Intrinsics no lens has mean the upgrade went wrong (a near-critical configuration).
+        for (size_t c = 0; c < n && scene; ++c) {
+          if (!scene->present[c]) continue;
+          const std::string failure = GateFailure(scene->cameras[c], 1.0, options.gates);
+          if (failure.empty()) continue;
+          why = fmt::format("implausible intrinsics for {}: {}", cameras[c].id, failure);
+          scene.reset();
+        }
+      }
       out.stages.push_back({"self-calibration", 0.0, SecondsSince(start), why});
       if (!scene) {
         for (size_t c = 0; c < n; ++c) {
           if (projective.scene.present[c]) reasons[c] = "self-calibration failed: " + why;
         }
       }
+    }
+  }
+  bool focal_searched = false;
+  if (!scene && !options.known_intrinsics) {
+    // Self-calibration could not start the metric stage: search a common focal length.
+    start = Clock::now();
+    FocalSearchResult search = SearchCommonFocal(cameras, pairs, options.focal, options.global);
+    out.stages.push_back({"focal length search", 0.0, SecondsSince(start), search.detail});
+    spdlog::info("focal length search: {}", search.detail);
+    if (search.ok) {
+      ApplyGlobalChoice(search.start, &pairs);
+      graph = BuildViewGraph(ids, pairs);
+      PoseChain start_scene =
+          SceneFromGlobalStart(search.start, graph, search.cameras, options.known);
+      added_by = start_scene.added_by;
+      for (std::string& how : added_by) {
+        if (!how.empty()) how += " (focal length search)";
+      }
+      reasons = start_scene.reasons;
+      scene = std::move(start_scene.scene);
+      focal_searched = true;
     }
   }
   for (size_t c = 0; c < n; ++c) {
@@ -280,9 +401,17 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
       scene->cameras[c].K(1, 2) = 0.5 * (scene->cameras[c].height - 1);
     }
   }
+  // Without self-calibration nothing tells where the principal points are: they stay at the
+  // image centres the focal length search assumed. Such a start is rougher, and its
+  // distortion comes only from re-matching: a few more rounds.
+  CalibrationOptions refine_options = options;
+  if (focal_searched) {
+    refine_options.intrinsics.fix_principal_point = true;
+    refine_options.rematch_rounds = std::max(refine_options.rematch_rounds, 3);
+  }
   if (progress)
-    progress->Restart("bundle adjustment", 1 + static_cast<size_t>(options.rematch_rounds));
-  MetricRefinement refine(options, &out);
+    progress->Restart("bundle adjustment", 1 + static_cast<size_t>(refine_options.rematch_rounds));
+  MetricRefinement refine(refine_options, &out);
   refine.Adjust(graph, &*scene, "Euclidean bundle adjustment");
   if (progress) progress->Advance();
   for (size_t p = 0; p < pairs.size(); ++p) {
@@ -291,8 +420,8 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
     used[p] = link != nullptr && scene->present[link->i] && scene->present[link->j];
   }
   if (sequences != nullptr) {
-    for (int round = 0; round < options.rematch_rounds && !(progress && progress->cancelled());
-         ++round) {
+    for (int round = 0;
+         round < refine_options.rematch_rounds && !(progress && progress->cancelled()); ++round) {
       start = Clock::now();
       std::vector<SilhouetteSequence> undistorted(n);
       ParallelFor(n, 0, [&](size_t c) {
@@ -315,6 +444,10 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
   }
   NormalizeGauge(&*scene, options.rig_radius);
   FillResult(*scene, out.sync, &out);
+  if (const size_t rejected = ApplyCalibrationGates(options.gates, &out); rejected > 0) {
+    out.stages.push_back({"sanity gates", 0.0, 0.0,
+                          fmt::format("{} cameras rejected (see their reasons)", rejected)});
+  }
   out.pairs = CheckPairs(out.cameras, out.placement, pairs, used, options.corrected_px);
   if (progress) progress->Finish();
   return out;

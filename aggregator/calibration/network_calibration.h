@@ -16,8 +16,12 @@
 #include <string>
 #include <vector>
 
+#include "aggregator/calibration/ambiguity_resolution.h"
+#include "aggregator/calibration/calibration_gates.h"
 #include "aggregator/calibration/calibration_result.h"
 #include "aggregator/calibration/euclidean_bundle_adjustment.h"
+#include "aggregator/calibration/focal_search.h"
+#include "aggregator/calibration/global_start.h"
 #include "aggregator/calibration/known_intrinsics.h"
 #include "aggregator/calibration/projective_reconstruction.h"
 #include "aggregator/pairwise/silhouette_sequence.h"
@@ -30,8 +34,12 @@ namespace silnet::aggregator {
 struct CalibrationOptions {
   IntrinsicsModel intrinsics;     // what the Euclidean bundle adjustment estimates
   bool known_intrinsics = false;  // the input cameras carry trusted K and distortion
+  AmbiguityOptions ambiguity;     // picking among an ambiguous pair's solutions
   ProjectiveOptions projective;
   KnownIntrinsicsOptions known;
+  GlobalStartOptions global;  // the start with known intrinsics (and after a focal search)
+  FocalSearchOptions focal;   // when self-calibration cannot start the metric stage
+  CalibrationGates gates;     // every calibrated camera must pass these
   SyncOptions sync;
   BundleOptions bundle;                 // the Euclidean adjustments
   size_t final_tracks_per_link = 1500;  // correspondences per pair in the metric stages
@@ -44,7 +52,8 @@ struct CalibrationOptions {
 };
 
 // Calibrates `cameras` (id, image size, fps; with known_intrinsics also K and dist) from
-// `pairs` (the pairwise job's results, cameras named by id). `sequences`, when given, are the
+// `pairs` (the pairwise job's results, cameras named by id; ambiguous pairs are resolved by
+// the other pairs where they can be, see ambiguity_resolution.h). `sequences`, when given, are the
 // cameras' silhouettes (matched by camera id) for the re-matching stage. Throws InputError
 // for invalid options.
 NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,

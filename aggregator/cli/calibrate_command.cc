@@ -17,7 +17,7 @@ namespace silnet::aggregator::cli {
 namespace {
 
 struct CalibrateArgs {
-  std::string input, out, reuse_pairs, intrinsics, distortion = "none";
+  std::string input, out, reuse_pairs, intrinsics, ground_truth, distortion = "none";
   int max_frames = 0;
   PairwiseArgs pairwise;
   bool free_aspect = false, fix_principal_point = false, no_report = false;
@@ -90,7 +90,9 @@ int RunCalibrate(const CalibrateArgs& args) {
   config.pairwise = args.pairwise.Options();
   config.reuse_pairs = args.reuse_pairs;
   config.intrinsics = args.intrinsics;
+  config.ground_truth = args.ground_truth;
   config.max_frames = args.max_frames;
+  config.mask_video = args.pairwise.mask_video;
   config.report = !args.no_report;
   config.calibration.intrinsics.square_pixels = !args.free_aspect;
   config.calibration.intrinsics.fix_principal_point = args.fix_principal_point;
@@ -126,6 +128,9 @@ Command AddCalibrateCommand(CLI::App& app) {
                   "reuse the results of an earlier `pairs` run in this folder");
   cmd->add_option("--intrinsics", args->intrinsics,
                   "calibration YAML with trusted K and distortion per camera (known intrinsics)");
+  cmd->add_option("--ground-truth", args->ground_truth,
+                  "calibration YAML to compare the result with (default: the input's "
+                  "ground_truth.yaml, if any)");
   cmd->add_flag("--free-aspect", args->free_aspect, "estimate fx and fy separately");
   cmd->add_flag("--fix-principal-point", args->fix_principal_point,
                 "keep the principal point at the image centre");

@@ -66,6 +66,9 @@ void PairwiseArgs::AddTo(CLI::App* command) {
       ->capture_default_str();
   command->add_option("--iterations", iterations, "RANSAC iterations per pair at most")
       ->capture_default_str();
+  command->add_option("--mask-video", mask_video,
+                      "read each camera's silhouettes from this video file in its folder "
+                      "(e.g. foreground.avi; grey above 128 is silhouette)");
 }
 
 PairwiseJobOptions PairwiseArgs::Options() const {

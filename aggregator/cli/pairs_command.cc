@@ -27,6 +27,7 @@ int RunPairs(const PairsArgs& args) {
   config.input = args.input;
   config.output = args.out;
   config.max_frames = args.max_frames;
+  config.mask_video = args.pairwise.mask_video;
   config.options = args.pairwise.Options();
   config.overlays = ParseOverlays(args.overlays);
   const auto run =

@@ -3,8 +3,12 @@
 #include <fmt/format.h>
 
 #include <fstream>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+#include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
 #include <sstream>
 
 #include "aggregator/calibration/projective_geometry.h"
@@ -45,7 +49,88 @@ CameraModel SingleInstantCamera(std::string id, const cv::Mat& mask) {
   return camera;
 }
 
+// The first of `names` that `fs` holds, as a CV_64F matrix with `values` elements.
+cv::Mat ReadMatrix(const cv::FileStorage& fs, std::initializer_list<const char*> names, int values,
+                   const std::filesystem::path& path) {
+  for (const char* name : names) {
+    cv::Mat m;
+    fs[name] >> m;
+    if (m.empty()) continue;
+    if (static_cast<int>(m.total()) != values) {
+      throw InputError(
+          fmt::format("{}: {} has {} values, expected {}", path.string(), name, m.total(), values));
+    }
+    m.convertTo(m, CV_64F);
+    return m.reshape(1, 1);
+  }
+  throw InputError(fmt::format("{}: no {}", path.string(), *names.begin()));
+}
+
+// The frame size of the first .avi file in `folder`.
+cv::Size VideoFrameSize(const std::filesystem::path& folder) {
+  std::vector<std::filesystem::path> videos;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (entry.path().extension() == ".avi") videos.push_back(entry.path());
+  }
+  std::sort(videos.begin(), videos.end());
+  if (videos.empty()) throw InputError(fmt::format("{}: no .avi video", folder.string()));
+  cv::VideoCapture capture(videos.front().string());
+  cv::Mat frame;
+  if (!capture.isOpened() || !capture.read(frame) || frame.empty())
+    throw InputError(fmt::format("{}: cannot decode", videos.front().string()));
+  return frame.size();
+}
+
 }  // namespace
+
+std::vector<CameraModel> LoadUtrechtCameras(const std::filesystem::path& folder, double fps) {
+  std::vector<std::filesystem::path> dirs;
+  if (!std::filesystem::is_directory(folder))
+    throw InputError(fmt::format("{}: not a folder", folder.string()));
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (entry.is_directory() && std::filesystem::exists(entry.path() / "config.xml"))
+      dirs.push_back(entry.path());
+  }
+  std::sort(dirs.begin(), dirs.end());
+  if (dirs.empty())
+    throw InputError(fmt::format("{}: no camera folder with config.xml", folder.string()));
+  std::vector<CameraModel> cameras;
+  for (const std::filesystem::path& dir : dirs) {
+    const std::filesystem::path path = dir / "config.xml";
+    cv::FileStorage fs;
+    try {
+      fs.open(path.string(), cv::FileStorage::READ);
+    } catch (const cv::Exception& e) {
+      throw InputError(fmt::format("{}: {}", path.string(), e.what()));
+    }
+    if (!fs.isOpened()) throw InputError(fmt::format("cannot open {}", path.string()));
+    const cv::Mat k = ReadMatrix(fs, {"camera_matrix", "CameraMatrix"}, 9, path);
+    const cv::Mat dist = ReadMatrix(fs, {"distortion_coefficients", "DistortionCoeffs"}, 5, path);
+    const cv::Mat rvec = ReadMatrix(fs, {"rotation_vectors", "Rotation"}, 3, path);
+    const cv::Mat tvec = ReadMatrix(fs, {"translation_vectors", "Translation"}, 3, path);
+    CameraModel camera;
+    camera.id = dir.filename().string();
+    const cv::Size size = VideoFrameSize(dir);
+    camera.width = size.width;
+    camera.height = size.height;
+    camera.fps = fps;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c)
+        camera.K(r, c) = k.at<double>(0, 3 * r + c);
+    }
+    if (!(camera.K(0, 0) > 0.0 && camera.K(1, 1) > 0.0))
+      throw InputError(fmt::format("{}: the camera matrix has no focal length", path.string()));
+    for (int i = 0; i < 5; ++i)
+      camera.dist[i] = dist.at<double>(0, i);
+    cv::Mat rotation;
+    cv::Rodrigues(rvec.reshape(1, 3), rotation);
+    cv::cv2eigen(rotation, camera.R);
+    for (int i = 0; i < 3; ++i)
+      camera.t[i] = tvec.at<double>(0, i);
+    cameras.push_back(camera);
+  }
+  return cameras;
+}
 
 cv::Mat ReadPbm(const std::filesystem::path& path, int foreground_bit) {
   std::ifstream in = OpenOrThrow(path, std::ios::binary);

@@ -37,6 +37,14 @@ RealCapture LoadInriaDancer(const std::filesystem::path& folder);
 // (the dataset's own code ignores them). Throws InputError for missing or malformed input.
 RealCapture LoadTsinghuaWd2(const std::filesystem::path& folder, bool use_distortion);
 
+// Reads the cameras of a Utrecht INFOMCV capture (cam1..camN/config.xml: OpenCV FileStorage
+// with K, five distortion coefficients, a Rodrigues rotation and a translation in mm,
+// x_cam = R X + t; either the `camera_matrix`/`distortion_coefficients`/`rotation_vectors`/
+// `translation_vectors` or the `CameraMatrix`/`DistortionCoeffs`/`Rotation`/`Translation`
+// names), with the image size of the first .avi file in each camera folder and frame rate
+// `fps`. Cameras are named by their folders. Throws InputError for missing or malformed input.
+std::vector<CameraModel> LoadUtrechtCameras(const std::filesystem::path& folder, double fps);
+
 // The mask with only its largest 8-connected silhouette component kept (CV_8UC1, 0/255).
 cv::Mat KeepLargestComponent(const cv::Mat& mask);
 

@@ -14,6 +14,7 @@
 #include "aggregator/pairwise/pair_degeneracy.h"
 #include "aggregator/pairwise/ransac_driver.h"
 #include "shared/silhouette/hull_tangents.h"
+#include "shared/util/check.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -224,6 +225,27 @@ std::string PairwiseOptions::Validate() const {
   return {};
 }
 
+PairCandidate PairwiseResult::Chosen() const {
+  return {model,         F, offset, offset_sigma, inliers, residual_rms, candidates_agreeing,
+          inlier_matches};
+}
+
+void PairwiseResult::Choose(size_t alternative, const std::string& why) {
+  SILNET_CHECK(alternative < alternatives.size());
+  PairCandidate chosen = std::move(alternatives[alternative]);
+  alternatives[alternative] = Chosen();
+  model = chosen.model;
+  F = chosen.F;
+  offset = chosen.offset;
+  offset_sigma = chosen.offset_sigma;
+  inliers = chosen.inliers;
+  residual_rms = chosen.residual_rms;
+  candidates_agreeing = chosen.support;
+  inlier_matches = std::move(chosen.inlier_matches);
+  status = PairStatus::kOk;
+  reason = why;
+}
+
 const char* ToString(PairStatus status) {
   switch (status) {
     case PairStatus::kOk:
@@ -232,6 +254,8 @@ const char* ToString(PairStatus status) {
       return "degenerate";
     case PairStatus::kFailed:
       return "failed";
+    case PairStatus::kAmbiguous:
+      return "ambiguous";
   }
   return "unknown";
 }
@@ -420,27 +444,34 @@ PairwiseResult EstimatePair(const SilhouetteSequence& i, const SilhouetteSequenc
   result.epipole_inside_fraction = diagnosis.epipole_inside_fraction;
   result.spread_score = diagnosis.spread_score;
   if (!diagnosis.reason.empty()) return finish(PairStatus::kDegenerate, diagnosis.reason);
-  // Ambiguity: another solution, clearly different, that several candidates reached and
-  // that explains almost as much.
+  // Ambiguity: other solutions, clearly different, that explain almost as much. They are
+  // kept, so the network can pick the one consistent with the other pairs.
   size_t rivals = 0;
   for (size_t s = 1; s < solutions.size(); ++s) {
     const bool different =
         FundamentalDistance(solutions[s].f, chosen.f, i.width, i.height) > options.ambiguity_px ||
         std::abs(solutions[s].refined.model.offset - best->model.offset) > 1.0;
-    if (different && solutions[s].support >= 2 &&
-        solutions[s].refined.inliers >= 0.9 * static_cast<double>(best->inliers)) {
-      ++rivals;
+    if (!different || static_cast<double>(solutions[s].refined.inliers) <
+                          options.alternative_support * static_cast<double>(best->inliers)) {
+      continue;
     }
+    const RefinedModel& r = solutions[s].refined;
+    result.alternatives.push_back({r.model, solutions[s].f,
+                                   options.synchronized ? 0.0 : r.model.offset, r.offset_sigma,
+                                   r.inliers, r.rms_error, solutions[s].support, r.inlier_matches});
+    if (solutions[s].support >= 2 && r.inliers >= 0.9 * static_cast<double>(best->inliers))
+      ++rivals;
   }
   if (chosen.support < options.agreeing) {
-    return finish(PairStatus::kDegenerate, "unconfirmed: only " + std::to_string(chosen.support) +
-                                               " of " + std::to_string(options.agreeing) +
-                                               " candidates reached the solution");
+    return finish(PairStatus::kAmbiguous, "unconfirmed: only " + std::to_string(chosen.support) +
+                                              " of " + std::to_string(options.agreeing) +
+                                              " candidates reached the solution");
   }
   if (rivals > 0) {
-    return finish(PairStatus::kDegenerate, "ambiguous: " + std::to_string(rivals + 1) +
-                                               " distinct solutions with similar support");
+    return finish(PairStatus::kAmbiguous, "ambiguous: " + std::to_string(rivals + 1) +
+                                              " distinct solutions with similar support");
   }
+  result.alternatives.clear();
   return finish(PairStatus::kOk, "");
 }
 

@@ -49,6 +49,8 @@ struct PairwiseOptions {
   double consensus_px = 2.0;   // solutions agree if their Zhang distance is below this
   size_t agreeing = 3;         // stop once this many candidates reach the same solution
   double ambiguity_px = 10.0;  // solutions further apart than this are distinct
+  double alternative_support =
+      0.6;  // distinct solutions kept with this share of the best's inliers
   // Local optimisation (beyond the thesis): a hypothesis passes the screen when its K-quantile
   // is below screen_factor * tau0 (at least screen_min px), is then refined on a sample of
   // local_frames frames, and counts when at least local_support of the possible frontier
@@ -67,9 +69,23 @@ struct PairwiseOptions {
   std::string Validate() const;
 };
 
-// Why a pair's geometry is not trusted.
-enum class PairStatus { kOk, kDegenerate, kFailed };
+// Why a pair's geometry is not trusted. kAmbiguous: several distinct solutions of similar
+// support, or one that too few candidates confirmed; the network stage may pick one of them
+// by its consistency with the other pairs (PairwiseResult::alternatives holds the others).
+enum class PairStatus { kOk, kDegenerate, kFailed, kAmbiguous };
 const char* ToString(PairStatus status);
+
+// One distinct solution of a pair's RANSAC: its geometry and how well it is supported.
+struct PairCandidate {
+  EpipolarModel model;
+  Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+  double offset = 0.0;
+  double offset_sigma = 0.0;
+  size_t inliers = 0;
+  double residual_rms = 0.0;
+  size_t support = 0;  // locally optimised candidates that reached it
+  std::vector<TimedMatch> inlier_matches;
+};
 
 // The outcome for one camera pair.
 struct PairwiseResult {
@@ -91,6 +107,14 @@ struct PairwiseResult {
   size_t candidates_agreeing = 0;
   double seconds = 0.0;
   std::vector<TimedMatch> inlier_matches;
+  // Other distinct solutions that explain nearly as much (ambiguous pairs), best first.
+  std::vector<PairCandidate> alternatives;
+
+  // The reported solution as a candidate.
+  PairCandidate Chosen() const;
+  // Makes `candidate` the reported solution (the previous one becomes an alternative) and
+  // marks the pair ok with `reason` saying why it was chosen.
+  void Choose(size_t alternative, const std::string& why);
 };
 
 // Estimates the epipolar geometry (and offset) of cameras i and j.

@@ -41,6 +41,59 @@ std::optional<double> ClockOrigin(const SilhouetteSequence& s) {
   return origins[origins.size() / 2];
 }
 
+// The correspondences file of a pair's k-th alternative solution.
+std::string AlternativeCsvName(const std::string& pair, int k) {
+  return fmt::format("{}-alt{}.csv", pair, k);
+}
+
+// A 3x3 F from a pairs.yaml node; throws InputError naming the pair otherwise.
+Eigen::Matrix3d ReadF(const cv::FileNode& node, const std::filesystem::path& path,
+                      const std::string& pair) {
+  cv::Mat f;
+  node["F"] >> f;
+  if (f.rows != 3 || f.cols != 3)
+    throw InputError(path.string() + ": pair " + pair + " has no 3x3 F");
+  Eigen::Matrix3d fe;
+  cv::cv2eigen(f, fe);
+  return fe;
+}
+
+// Writes correspondences as frame_i,frame_j,x_i,y_i,x_j,y_j (x_j at `offset`).
+void WriteMatchCsv(const std::filesystem::path& file, const std::vector<TimedMatch>& matches,
+                   double offset) {
+  std::ofstream out(file);
+  if (!out) throw InputError(file.string() + ": cannot write");
+  out << "frame_i,frame_j,x_i,y_i,x_j,y_j\n";
+  for (const TimedMatch& m : matches) {
+    const Eigen::Vector2d xj = m.XjAt(offset);
+    out << fmt::format("{},{},{:.3f},{:.3f},{:.3f},{:.3f}\n", m.frame_i, m.frame_j, m.x_i.x(),
+                       m.x_i.y(), xj.x(), xj.y());
+  }
+}
+
+// Reads a correspondences file that `pairs_yaml` refers to; throws InputError if missing.
+std::vector<TimedMatch> ReadMatchesCsv(const std::filesystem::path& file,
+                                       const std::filesystem::path& pairs_yaml) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file.string() + ": missing (" + pairs_yaml.string() + " refers to it)");
+  std::vector<TimedMatch> matches;
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    TimedMatch m;
+    char comma = 0;
+    double xi, yi, xj, yj;
+    if (row >> m.frame_i >> comma >> m.frame_j >> comma >> xi >> comma >> yi >> comma >> xj >>
+        comma >> yj) {
+      m.x_i = {xi, yi};
+      m.x_j_a = m.x_j_b = {xj, yj};
+      matches.push_back(m);
+    }
+  }
+  return matches;
+}
+
 }  // namespace
 
 size_t PairwiseJobResult::ok() const {
@@ -108,7 +161,19 @@ void WritePairsYaml(const std::filesystem::path& path, const PairwiseJobResult& 
     fs << "epipole_inside_fraction" << p.epipole_inside_fraction << "tau0" << p.tau0;
     fs << "iterations" << static_cast<double>(p.iterations) << "candidates"
        << static_cast<int>(p.candidates);
-    fs << "agreeing" << static_cast<int>(p.candidates_agreeing) << "seconds" << p.seconds << "}";
+    fs << "agreeing" << static_cast<int>(p.candidates_agreeing) << "seconds" << p.seconds;
+    if (!p.alternatives.empty()) {
+      fs << "alternatives"
+         << "[";
+      for (const PairCandidate& a : p.alternatives) {
+        fs << "{"
+           << "F" << ToMat(a.F) << "offset" << a.offset << "offset_sigma" << a.offset_sigma
+           << "inliers" << static_cast<int>(a.inliers) << "residual" << a.residual_rms << "agreeing"
+           << static_cast<int>(a.support) << "}";
+      }
+      fs << "]";
+    }
+    fs << "}";
   }
   fs << "]";
 }
@@ -118,6 +183,11 @@ std::vector<PairwiseResult> ReadPairsYaml(const std::filesystem::path& path,
   cv::FileStorage fs = OpenYamlForReading(path);
   const cv::FileNode pairs = fs["pairs"];
   if (pairs.empty() || !pairs.isSeq()) throw InputError(path.string() + ": no 'pairs' sequence");
+  if (!matches_dir.empty() && !std::filesystem::is_directory(matches_dir)) {
+    throw InputError(matches_dir.string() +
+                     ": missing; the pairs' frontier correspondences are needed with pairs.yaml "
+                     "(reuse a whole `pairs` output folder)");
+  }
   std::vector<PairwiseResult> out;
   for (const cv::FileNode& node : pairs) {
     PairwiseResult p;
@@ -126,38 +196,35 @@ std::vector<PairwiseResult> ReadPairsYaml(const std::filesystem::path& path,
     const std::string status = node["status"];
     p.status = status == "ok"           ? PairStatus::kOk
                : status == "degenerate" ? PairStatus::kDegenerate
+               : status == "ambiguous"  ? PairStatus::kAmbiguous
                                         : PairStatus::kFailed;
     p.reason = static_cast<std::string>(node["reason"]);
-    cv::Mat f;
-    node["F"] >> f;
-    if (f.rows != 3 || f.cols != 3)
-      throw InputError(path.string() + ": pair " + p.camera_i + "-" + p.camera_j + " has no 3x3 F");
-    Eigen::Matrix3d fe;
-    cv::cv2eigen(f, fe);
-    p.F = fe;
+    const std::string name = p.camera_i + "-" + p.camera_j;
+    p.F = ReadF(node, path, name);
     p.offset = node["offset"];
-    p.model = EpipolarModel::FromFundamental(fe, p.offset);
+    p.model = EpipolarModel::FromFundamental(p.F, p.offset);
     p.offset_sigma = node["offset_sigma"];
     p.inliers = static_cast<size_t>(static_cast<int>(node["inliers"]));
     p.residual_rms = node["residual"];
     p.spread_score = node["spread_score"];
     p.epipole_inside_fraction = node["epipole_inside_fraction"];
-    if (!matches_dir.empty()) {
-      std::ifstream in(matches_dir / (p.camera_i + "-" + p.camera_j + ".csv"));
-      std::string line;
-      std::getline(in, line);  // header
-      while (std::getline(in, line)) {
-        std::istringstream row(line);
-        TimedMatch m;
-        char comma = 0;
-        double xi, yi, xj, yj;
-        if (row >> m.frame_i >> comma >> m.frame_j >> comma >> xi >> comma >> yi >> comma >> xj >>
-            comma >> yj) {
-          m.x_i = {xi, yi};
-          m.x_j_a = m.x_j_b = {xj, yj};
-          p.inlier_matches.push_back(m);
-        }
-      }
+    p.candidates_agreeing = static_cast<size_t>(static_cast<int>(node["agreeing"]));
+    if (!matches_dir.empty() && p.inliers > 0)
+      p.inlier_matches = ReadMatchesCsv(matches_dir / (name + ".csv"), path);
+    int k = 0;
+    for (const cv::FileNode& a : node["alternatives"]) {
+      PairCandidate c;
+      c.F = ReadF(a, path, name);
+      c.offset = a["offset"];
+      c.model = EpipolarModel::FromFundamental(c.F, c.offset);
+      c.offset_sigma = a["offset_sigma"];
+      c.inliers = static_cast<size_t>(static_cast<int>(a["inliers"]));
+      c.residual_rms = a["residual"];
+      c.support = static_cast<size_t>(static_cast<int>(a["agreeing"]));
+      if (!matches_dir.empty() && c.inliers > 0)
+        c.inlier_matches = ReadMatchesCsv(matches_dir / AlternativeCsvName(name, k), path);
+      p.alternatives.push_back(std::move(c));
+      ++k;
     }
     out.push_back(std::move(p));
   }
@@ -167,16 +234,13 @@ std::vector<PairwiseResult> ReadPairsYaml(const std::filesystem::path& path,
 void WriteMatchesCsv(const std::filesystem::path& dir, const PairwiseJobResult& result) {
   std::filesystem::create_directories(dir);
   for (const PairwiseResult& p : result.pairs) {
-    if (p.inlier_matches.empty()) continue;
-    std::ofstream out(dir / (p.camera_i + "-" + p.camera_j + ".csv"));
-    if (!out)
-      throw InputError((dir / (p.camera_i + "-" + p.camera_j + ".csv")).string() +
-                       ": cannot write");
-    out << "frame_i,frame_j,x_i,y_i,x_j,y_j\n";
-    for (const TimedMatch& m : p.inlier_matches) {
-      const Eigen::Vector2d xj = m.XjAt(p.offset);
-      out << fmt::format("{},{},{:.3f},{:.3f},{:.3f},{:.3f}\n", m.frame_i, m.frame_j, m.x_i.x(),
-                         m.x_i.y(), xj.x(), xj.y());
+    const std::string name = p.camera_i + "-" + p.camera_j;
+    if (!p.inlier_matches.empty()) WriteMatchCsv(dir / (name + ".csv"), p.inlier_matches, p.offset);
+    for (size_t k = 0; k < p.alternatives.size(); ++k) {
+      const PairCandidate& a = p.alternatives[k];
+      if (!a.inlier_matches.empty())
+        WriteMatchCsv(dir / AlternativeCsvName(name, static_cast<int>(k)), a.inlier_matches,
+                      a.offset);
     }
   }
 }
@@ -186,6 +250,7 @@ PairwiseJobResult RunPairsJob(const PairsJobConfig& config, Progress* progress) 
   load.max_frames = config.max_frames;
   load.allow_warmup = config.options.pair.allow_warmup;
   load.threads = config.options.threads;
+  load.mask_video = config.mask_video;
   SequenceSource source = SequenceSource::kSessionLogs;
   const std::vector<SilhouetteSequence> sequences = LoadSequences(config.input, load, &source);
   if (sequences.size() < 2) throw InputError(config.input.string() + ": fewer than two cameras");
@@ -209,7 +274,8 @@ PairwiseJobResult RunPairsOnSequences(const PairsJobConfig& config,
     std::filesystem::create_directories(config.output / "overlays");
     const DatasetLayout layout(config.input);
     auto image = [&](const SilhouetteSequence& s, uint64_t frame) {
-      if (source == SequenceSource::kSessionLogs) return cv::Mat();
+      if (source == SequenceSource::kSessionLogs || source == SequenceSource::kMaskVideo)
+        return cv::Mat();
       const auto path = source == SequenceSource::kMaskDataset
                             ? layout.MaskPath(s.camera_id, static_cast<int>(frame))
                             : layout.FramePath(s.camera_id, static_cast<int>(frame));

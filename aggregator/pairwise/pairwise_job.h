@@ -58,7 +58,8 @@ struct PairsJobConfig {
   std::filesystem::path input;
   std::filesystem::path output;
   PairwiseJobOptions options;
-  int max_frames = 0;  // 0 = all
+  int max_frames = 0;      // 0 = all
+  std::string mask_video;  // each camera folder's mask video, when the input is one
   OverlaySelection overlays = OverlaySelection::kOk;
 };
 

@@ -5,6 +5,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "aggregator/ingest/session_store.h"
+#include "node/capture/files/video_file_source.h"
 #include "node/pipeline/frame_processor.h"
 #include "shared/io/calibration_yaml.h"
 #include "shared/io/dataset_layout.h"
@@ -47,24 +48,21 @@ std::vector<SilhouetteSequence> FromSessionLogs(const std::filesystem::path& dir
   return out;
 }
 
-// Runs a dataset camera's images through the node's own per-frame pipeline and decodes
-// what it encoded, so the wire format is exercised exactly as live.
-SilhouetteSequence FromDatasetCamera(const DatasetLayout& layout, const std::string& id, bool masks,
-                                     const SequenceLoadOptions& options, double fps) {
-  const std::string kind = masks ? "masks" : "frames";
-  int count = layout.CountImages(id, kind) - options.first_frame;
-  if (options.max_frames > 0) count = std::min(count, options.max_frames);
+// Runs a camera's images, read one by one by `read` (an empty image ends the sequence),
+// through the node's own per-frame pipeline and decodes what it encoded, so the wire format
+// is exercised exactly as live.
+template <typename ReadImage>
+SilhouetteSequence EncodeCamera(const std::string& id, bool masks, int first_frame, int count,
+                                double fps, bool allow_warmup, ReadImage&& read) {
   SilhouetteSequence seq;
   seq.camera_id = id;
   seq.fps = fps;
-  seq.allow_warmup = options.allow_warmup || masks;
+  seq.allow_warmup = allow_warmup || masks;
   std::unique_ptr<node::FrameProcessor> processor;
-  for (int k = 0; k < count; ++k) {
-    const int frame = options.first_frame + k;
-    const auto path = masks ? layout.MaskPath(id, frame) : layout.FramePath(id, frame);
-    const cv::Mat image =
-        cv::imread(path.string(), masks ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR);
-    if (image.empty()) throw InputError(path.string() + ": cannot read image");
+  for (int k = 0; count < 0 || k < count; ++k) {
+    const int frame = first_frame + k;
+    const cv::Mat image = read(frame);
+    if (image.empty()) break;
     if (!processor) {
       node::FrameProcessorOptions o;
       o.camera_id = id;
@@ -81,6 +79,52 @@ SilhouetteSequence FromDatasetCamera(const DatasetLayout& layout, const std::str
     seq.frames.push_back(DecodeSilhouetteFrame(processor->Process(captured).hull));
   }
   seq.Index();
+  return seq;
+}
+
+SilhouetteSequence FromDatasetCamera(const DatasetLayout& layout, const std::string& id, bool masks,
+                                     const SequenceLoadOptions& options, double fps) {
+  int count = layout.CountImages(id, masks ? "masks" : "frames") - options.first_frame;
+  if (options.max_frames > 0) count = std::min(count, options.max_frames);
+  return EncodeCamera(
+      id, masks, options.first_frame, std::max(count, 0), fps, options.allow_warmup,
+      [&](int frame) {
+        const auto path = masks ? layout.MaskPath(id, frame) : layout.FramePath(id, frame);
+        cv::Mat image = cv::imread(path.string(), masks ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR);
+        if (image.empty()) throw InputError(path.string() + ": cannot read image");
+        return image;
+      });
+}
+
+// A camera's mask video, decoded by the node's video file source.
+SilhouetteSequence FromMaskVideo(const DatasetLayout& layout, const std::string& id,
+                                 const SequenceLoadOptions& options) {
+  node::VideoFileSourceOptions video;
+  video.file = layout.CameraDir(id) / options.mask_video;
+  video.fps = options.video_fps;
+  video.first_frame = static_cast<uint64_t>(std::max(options.first_frame, 0));
+  video.max_frames = static_cast<uint64_t>(std::max(options.max_frames, 0));
+  node::VideoFileSource source(video);
+  try {
+    source.Open();
+  } catch (const std::exception& e) {
+    throw InputError(e.what());
+  }
+  const double fps = source.Format().fps > 0 ? source.Format().fps : 30.0;
+  // An undecodable frame becomes an empty silhouette, so later frames keep their index.
+  size_t errors = 0;
+  const cv::Size size(source.Format().width, source.Format().height);
+  SilhouetteSequence seq = EncodeCamera(
+      id, true, options.first_frame, -1, fps, options.allow_warmup, [&](int) -> cv::Mat {
+        node::CapturedFrame frame;
+        const node::CaptureStatus status = source.Read(&frame, std::chrono::milliseconds(0));
+        if (status == node::CaptureStatus::kFrame) return frame.image;
+        if (status != node::CaptureStatus::kFrameError || size.area() == 0) return {};
+        ++errors;
+        return cv::Mat::zeros(size, CV_8UC1);
+      });
+  if (errors > 0) spdlog::warn("{}: {} undecodable frames skipped", video.file.string(), errors);
+  if (seq.frames.empty()) throw InputError(video.file.string() + ": no frame decoded");
   return seq;
 }
 
@@ -136,6 +180,18 @@ std::vector<SilhouetteSequence> LoadSequences(const std::filesystem::path& input
     }
   }
   const DatasetLayout layout(input);
+  if (!options.mask_video.empty()) {
+    const std::vector<std::string> ids = layout.CameraIdsWithFile(options.mask_video);
+    if (ids.empty()) {
+      throw InputError(input.string() + ": no camera folder holds a mask video named " +
+                       options.mask_video);
+    }
+    if (detected != nullptr) *detected = SequenceSource::kMaskVideo;
+    std::vector<SilhouetteSequence> out(ids.size());
+    ParallelFor(ids.size(), options.threads,
+                [&](size_t i) { out[i] = FromMaskVideo(layout, ids[i], options); });
+    return out;
+  }
   const std::vector<std::string> ids = layout.CameraIds();
   if (ids.empty()) {
     throw InputError(

@@ -41,6 +41,17 @@ std::vector<std::string> DatasetLayout::CameraIds() const {
   return ids;
 }
 
+std::vector<std::string> DatasetLayout::CameraIdsWithFile(const std::string& file_name) const {
+  std::vector<std::string> ids;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(root_, error)) {
+    if (entry.is_directory() && std::filesystem::is_regular_file(entry.path() / file_name))
+      ids.push_back(entry.path().filename().string());
+  }
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
 int DatasetLayout::CountImages(const std::string& camera_id, const std::string& kind) const {
   const std::filesystem::path dir = CameraDir(camera_id) / kind;
   int count = 0;

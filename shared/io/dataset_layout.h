@@ -2,6 +2,8 @@
 // The dataset folder every offline job reads and silnet-sim writes (DESIGN.md "Files"):
 //   <root>/<camera-id>/frames/%06d.png   colour frames
 //   <root>/<camera-id>/masks/%06d.png    silhouettes (0 background, 255 foreground)
+//   <root>/<camera-id>/<name>            silhouettes as one video file (a real capture's
+//                                        segmentation output, e.g. MJPG masks)
 //   <root>/ground_truth.yaml             simulated data only
 
 #include <filesystem>
@@ -25,6 +27,8 @@ class DatasetLayout {
 
   // Sorted ids of the camera folders (sub-folders holding frames/ or masks/).
   std::vector<std::string> CameraIds() const;
+  // Sorted ids of the camera folders that hold a file named `file_name` (a mask video).
+  std::vector<std::string> CameraIdsWithFile(const std::string& file_name) const;
   // Number of consecutive images 000000.png, 000001.png, ... in a camera's folder `kind`
   // ("frames" or "masks").
   int CountImages(const std::string& camera_id, const std::string& kind) const;

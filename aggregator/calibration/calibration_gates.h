@@ -1,0 +1,38 @@
+#pragma once
+// Sanity gates on every calibrated camera (never a confident wrong answer): a calibration
+// that fits its frontier points can still be wrong where the data leave it free (the
+// near-critical configurations of self-calibration, a bundle adjustment drifting into a
+// degenerate focal length). Each camera must have a focal length plausible for its image
+// size, nearly square pixels, its principal point well inside the image, plausible radial
+// distortion, and its frontier points in front of it. A camera that fails is reported with
+// the reason and not written as calibrated.
+
+#include <string>
+#include <vector>
+
+#include "aggregator/calibration/calibration_result.h"
+
+namespace silnet::aggregator {
+
+// The limits of the gates.
+struct CalibrationGates {
+  double min_focal_factor = 0.2;      // focal length / larger image side, at least
+  double max_focal_factor = 8.0;      // ... at most
+  double max_aspect_error = 0.1;      // |fy / fx - 1|
+  double max_principal_offset = 0.3;  // |pp - centre| / image size, per axis
+  double max_abs_k1 = 1.5;            // |k1|
+  double min_in_front = 0.95;         // share of a camera's frontier points in front of it
+
+  // A readable reason if the limits are unusable, empty if they are fine.
+  std::string Validate() const;
+};
+
+// Why `camera` fails the gates, or empty if it passes; `in_front` is the share of its
+// frontier observations in front of it.
+std::string GateFailure(const CameraModel& camera, double in_front, const CalibrationGates& gates);
+
+// Applies the gates to every placed camera of `calibration`: a failing camera is marked not
+// placed with the reason. Returns the number of cameras rejected.
+size_t ApplyCalibrationGates(const CalibrationGates& gates, NetworkCalibration* calibration);
+
+}  // namespace silnet::aggregator

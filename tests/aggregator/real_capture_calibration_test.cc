@@ -1,0 +1,181 @@
+// Calibration from the silhouettes of a real capture (the shared data folder's Utrecht
+// 4-camera room: four people walking, strong lens distortion, the capture's own checkerboard
+// calibration as the reference), and the parts that make it hold on real data: the sanity
+// gates, triplet consistency, and clear errors for incomplete pairwise results.
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "aggregator/calibration/calibrate_job.h"
+#include "aggregator/calibration/calibration_gates.h"
+#include "aggregator/calibration/epipolar_consistency.h"
+#include "aggregator/calibration/frontier_rematching.h"
+#include "aggregator/calibration/triplet_consistency.h"
+#include "aggregator/hulls/real_datasets.h"
+#include "aggregator/pairwise/pairwise_job.h"
+#include "shared/geometry/epipolar.h"
+#include "shared/io/calibration_yaml.h"
+#include "shared/util/check.h"
+#include "tests/support/temp_dir.h"
+
+namespace silnet::aggregator {
+namespace {
+
+const std::filesystem::path kUtrecht =
+    std::filesystem::path(SILNET_SHARED_DATA_DIR) / "utrecht-4persons-4cam";
+constexpr char kMaskVideo[] = "foreground_cropped.avi";
+
+// Median epipolar-tangent transfer error of every camera pair under `cameras`, on the
+// silhouettes with each camera's distortion taken out.
+std::vector<PairResidual> TangentResiduals(std::vector<CameraModel> cameras,
+                                           const std::vector<SilhouetteSequence>& raw) {
+  std::vector<SilhouetteSequence> undistorted;
+  for (const CameraModel& c : cameras)
+    undistorted.push_back(UndistortSequence(*FindSequence(raw, c.id), c));
+  for (CameraModel& c : cameras)
+    c.dist.setZero();
+  return MeasureEpipolarResiduals(cameras, std::vector<bool>(cameras.size(), true), undistorted);
+}
+
+// Runs the calibrate job on the Utrecht capture and checks what every run must give: all
+// four cameras calibrated, and the silhouettes' epipolar tangents explained at least as well
+// as by the capture's own calibration, pair by pair.
+CalibrateJobResult CalibrateUtrecht(bool with_intrinsics, const testing::TempDir& dir) {
+  const std::vector<CameraModel> truth = LoadUtrechtCameras(kUtrecht, 10.0);
+  SaveCalibration(dir / "truth.yaml", truth);
+  CalibrateJobConfig config;
+  config.input = kUtrecht;
+  config.output = dir / "out";
+  config.mask_video = kMaskVideo;
+  config.ground_truth = dir / "truth.yaml";
+  config.report = false;
+  if (with_intrinsics)
+    config.intrinsics = dir / "truth.yaml";
+  else
+    config.calibration.intrinsics.radial_terms = 2;
+  const CalibrateJobResult result = RunCalibrateJob(config, nullptr);
+  const NetworkCalibration& c = result.calibration;
+  EXPECT_EQ(c.PlacedCount(), 4u);
+  for (size_t k = 0; k < c.cameras.size(); ++k)
+    EXPECT_TRUE(c.placement[k].placed) << c.cameras[k].id << ": " << c.placement[k].reason;
+  if (c.PlacedCount() != 4) return result;
+
+  SequenceLoadOptions load;
+  load.mask_video = kMaskVideo;
+  const std::vector<SilhouetteSequence> raw = LoadSequences(kUtrecht, load);
+  const std::vector<PairResidual> given = TangentResiduals(truth, raw);
+  const std::vector<PairResidual> estimated = TangentResiduals(c.cameras, raw);
+  for (size_t p = 0; p < given.size(); ++p) {
+    std::printf("  %s-%s tangent transfer: capture's calibration %.2f px, silnet's %.2f px\n",
+                truth[given[p].i].id.c_str(), truth[given[p].j].id.c_str(), given[p].median_px,
+                estimated[p].median_px);
+    EXPECT_LE(estimated[p].median_px, given[p].median_px);
+  }
+  return result;
+}
+
+TEST(RealCaptureCalibration, UtrechtWithCheckerboardIntrinsics) {
+  if (!std::filesystem::exists(kUtrecht)) GTEST_SKIP() << "no real data at " << kUtrecht;
+  testing::TempDir dir;
+  const CalibrateJobResult result = CalibrateUtrecht(true, dir);
+  ASSERT_TRUE(result.errors.has_value());
+  const CalibrationErrors& e = *result.errors;
+  std::printf("  rotation against the capture's calibration: median %.3f deg, max %.3f deg\n",
+              e.median_rotation_deg, e.max_rotation_deg);
+  // Measured 0.88 / 1.13 deg. The capture's own calibration explains the tangents of the
+  // pairs with cam4 2-4x worse (9-12 px median) than silnet's, so part of this is its error.
+  EXPECT_LT(e.median_rotation_deg, 1.2);
+  EXPECT_LT(e.max_rotation_deg, 1.5);
+  EXPECT_LT(e.max_offset_frames, 0.1);  // the capture is synchronised; offsets were estimated
+}
+
+TEST(RealCaptureCalibration, UtrechtWithoutAnyCalibration) {
+  if (!std::filesystem::exists(kUtrecht)) GTEST_SKIP() << "no real data at " << kUtrecht;
+  testing::TempDir dir;
+  const CalibrateJobResult result = CalibrateUtrecht(false, dir);
+  ASSERT_TRUE(result.errors.has_value());
+  const CalibrationErrors& e = *result.errors;
+  std::printf("  focal %.2f %%, rotation median %.3f deg, max %.3f deg\n",
+              100 * e.median_focal_rel, e.median_rotation_deg, e.max_rotation_deg);
+  // Measured: focal 3.4 %, rotation 2.7 / 3.1 deg (principal points held at the centre; the
+  // capture's are up to 20 px off it).
+  EXPECT_LT(e.median_focal_rel, 0.06);
+  EXPECT_LT(e.max_rotation_deg, 4.0);
+  for (const CameraModel& c : result.calibration.cameras)
+    EXPECT_LT(c.dist[0], -0.05) << c.id << ": the strong barrel distortion is found";
+}
+
+TEST(CalibrationGates, RejectWhatNoLensGives) {
+  CameraModel c;
+  c.width = 640;
+  c.height = 480;
+  c.K << 500, 0, 320, 0, 500, 240, 0, 0, 1;
+  const CalibrationGates gates;
+  EXPECT_EQ(GateFailure(c, 1.0, gates), "");
+  CameraModel tiny = c;
+  tiny.K(0, 0) = tiny.K(1, 1) = 30.0;
+  EXPECT_NE(GateFailure(tiny, 1.0, gates).find("focal length"), std::string::npos);
+  CameraModel off = c;
+  off.K(0, 2) = 700.0;
+  EXPECT_NE(GateFailure(off, 1.0, gates).find("principal point"), std::string::npos);
+  CameraModel stretched = c;
+  stretched.K(1, 1) = 800.0;
+  EXPECT_NE(GateFailure(stretched, 1.0, gates).find("aspect"), std::string::npos);
+  EXPECT_NE(GateFailure(c, 0.6, gates).find("in front"), std::string::npos);
+}
+
+TEST(TripletConsistency, TrueCamerasAgreeAndAWrongPairDoesNot) {
+  std::vector<CameraModel> cameras(3);
+  const Eigen::Vector3d centres[3] = {{3, 0, 1}, {0, 3, 1.2}, {-2.5, -2, 0.8}};
+  for (int k = 0; k < 3; ++k) {
+    cameras[k].width = 640;
+    cameras[k].height = 480;
+    cameras[k].K << 520, 0, 325, 0, 520, 238, 0, 0, 1;
+    cameras[k].R = LookAtRotation(centres[k], Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ());
+    cameras[k].t = -cameras[k].R * centres[k];
+  }
+  const ViewSize size{640, 480};
+  const Eigen::Matrix3d f01 = FundamentalFromCameras(cameras[0], cameras[1]);
+  const Eigen::Matrix3d f02 = FundamentalFromCameras(cameras[0], cameras[2]);
+  const Eigen::Matrix3d f12 = FundamentalFromCameras(cameras[1], cameras[2]);
+  EXPECT_LT(TripletInconsistency(f01, f02, f12, size, size, size), 1e-6);
+  CameraModel turned = cameras[1];
+  turned.R = Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitY()).toRotationMatrix() * turned.R;
+  turned.t = -turned.R * centres[1];
+  const Eigen::Matrix3d wrong = FundamentalFromCameras(cameras[0], turned);
+  // One camera turned by 2.9 deg for this pair only: measured 3.5 px (the epipole constraints
+  // see only part of such an error; the resolution's threshold is 4 px with a 3x margin).
+  EXPECT_GT(TripletInconsistency(wrong, f02, f12, size, size, size), 2.0);
+}
+
+TEST(PairsYaml, ReusingPairsWithoutTheirMatchesIsAClearError) {
+  testing::TempDir dir;
+  PairwiseJobResult result;
+  const std::string a = "cam_a", b = "cam_b";
+  PairwiseResult p;
+  p.camera_i = a;
+  p.camera_j = b;
+  p.status = PairStatus::kOk;
+  p.F << 0, 0, 1, 0, 0, 0, -1, 0, 0;
+  p.inliers = 1;
+  TimedMatch m;
+  m.x_i = {10.0, 20.0};
+  m.x_j_a = m.x_j_b = {30.0, 40.0};
+  p.inlier_matches.push_back(m);
+  result.pairs.push_back(p);
+  WritePairsYaml(dir / "pairs.yaml", result);
+  try {
+    ReadPairsYaml(dir / "pairs.yaml", dir / "matches");
+    FAIL() << "no error without matches/";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("matches"), std::string::npos) << e.what();
+  }
+  WriteMatchesCsv(dir / "matches", result);
+  EXPECT_EQ(ReadPairsYaml(dir / "pairs.yaml", dir / "matches").front().inlier_matches.size(), 1u);
+}
+
+}  // namespace
+}  // namespace silnet::aggregator
