@@ -144,9 +144,12 @@ void CameraNode::State::CaptureLoop() {
       SetError(source->LastError());
     }
     job.discard = stopped.load();
-    // Never wait: a frame that finds the queue full is lost here and published flagged by
-    // the processing thread when it sees the gap in frame indices.
-    processing_queue.TryPush(std::move(job));
+    // Never wait (unless lossless): a frame that finds the queue full is lost here and
+    // published flagged by the processing thread when it sees the gap in frame indices.
+    if (options.lossless)
+      processing_queue.Push(std::move(job));
+    else
+      processing_queue.TryPush(std::move(job));
   }
   processing_queue.Close();
 }

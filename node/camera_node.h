@@ -32,6 +32,9 @@ struct CameraNodeOptions {
   std::chrono::milliseconds status_period{1000};
   std::chrono::milliseconds linger{5000};  // stay after a finite source ends (for resends)
   bool start_stopped = false;              // wait for COMMAND_START before publishing
+  // Capture waits for segmentation instead of dropping frames when it falls behind: for
+  // replayed files and tests on a busy machine, never for a live camera (which cannot wait).
+  bool lossless = false;
   dds::DomainConfig domain;
   dds::QosSettings qos;
 

@@ -99,6 +99,9 @@ int main(int argc, char** argv) {
   app.add_option("--linger", linger_s, "seconds to stay after a finite source ends")
       ->capture_default_str();
   app.add_flag("--stopped", options.start_stopped, "wait for a start command before publishing");
+  app.add_flag("--lossless", options.lossless,
+               "replays: capture waits for segmentation instead of dropping frames when the "
+               "machine is busy (never for a live camera)");
   app.add_option("--session", session, "session number (default: start time in seconds)");
   app.add_option("--domain", domain, "DDS domain id (default: SILNET_DDS_DOMAIN or 0)");
   app.add_flag("--loopback", loopback, "DDS on 127.0.0.1 only");

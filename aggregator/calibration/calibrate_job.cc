@@ -69,6 +69,7 @@ CalibrateJobResult RunCalibrateJob(const CalibrateJobConfig& config, Progress* p
   load.allow_warmup = config.pairwise.pair.allow_warmup;
   load.threads = config.pairwise.threads;
   load.mask_video = config.mask_video;
+  load.frame_video = config.frame_video;
   SequenceSource source = SequenceSource::kSessionLogs;
   std::vector<SilhouetteSequence> sequences = LoadSequences(config.input, load, &source);
   if (sequences.size() < 3)
@@ -152,6 +153,15 @@ void WriteCalibrationSummary(const std::filesystem::path& path, const CalibrateJ
          << "rms_px" << p.rms_px << "median_px" << p.median_px;
     } else {
       fs << "reason" << p.reason;
+    }
+    if (k < c.motion.size() && c.motion[k].frames > 0) {
+      const MotionCoverage& m = c.motion[k];
+      fs << "motion"
+         << "{"
+         << "sufficient" << m.sufficient << "image_share" << m.image_share << "direction_share"
+         << m.direction_share << "moving_frames" << static_cast<int>(m.moving_frames)
+         << "usable_frames" << static_cast<int>(m.usable_frames) << "frames"
+         << static_cast<int>(m.frames) << "}";
     }
     if (k < c.sync.offsets.size()) {
       fs << "synchronised" << static_cast<bool>(c.sync.synchronised[k]) << "time_offset"

@@ -27,10 +27,11 @@ struct CalibrateJobConfig {
   std::filesystem::path reuse_pairs;  // a `pairs` output folder to reuse instead of estimating
   std::filesystem::path intrinsics;   // calibration YAML with trusted K and dist (known intrinsics)
   CalibrationOptions calibration;
-  int first_frame = 0;     // first frame index to use
-  int max_frames = 0;      // 0 = all
-  std::string mask_video;  // each camera folder's mask video, when the input is one
-  bool report = true;      // write report/ (HTML and plots)
+  int first_frame = 0;      // first frame index to use
+  int max_frames = 0;       // 0 = all
+  std::string mask_video;   // each camera folder's mask video, when the input is one
+  std::string frame_video;  // each camera folder's colour video, when the input is one
+  bool report = true;       // write report/ (HTML and plots)
   bool compare_ground_truth =
       true;  // when the input has ground_truth.yaml (or ground_truth names one)
   std::filesystem::path ground_truth;  // a calibration YAML to compare with; empty = the input's

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "aggregator/calibration/motion_coverage.h"
 #include "aggregator/pairwise/epipolar_tangent_ransac.h"
 #include "aggregator/sync/network_sync.h"
 #include "shared/geometry/camera_model.h"
@@ -76,6 +77,9 @@ struct NetworkCalibration {
   double rms_px = 0.0;  // final reprojection error over inlier observations
   double median_px = 0.0;
   bool known_intrinsics = false;  // intrinsics given by the user (thesis 8.2.1)
+  // How much each camera's silhouettes moved, parallel to `cameras` (empty without
+  // silhouettes); a camera without enough motion is not calibrated.
+  std::vector<MotionCoverage> motion;
 
   size_t PlacedCount() const {
     size_t n = 0;

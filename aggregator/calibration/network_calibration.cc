@@ -8,6 +8,7 @@
 
 #include "aggregator/calibration/ambiguity_resolution.h"
 #include "aggregator/calibration/calibration_gates.h"
+#include "aggregator/calibration/epipolar_consistency.h"
 #include "aggregator/calibration/focal_search.h"
 #include "aggregator/calibration/frontier_rematching.h"
 #include "aggregator/calibration/global_start.h"
@@ -196,6 +197,17 @@ PoseChain SceneFromGlobalStart(const GlobalStart& global, const ViewGraph& graph
   return chain;
 }
 
+// Cameras whose silhouettes did not move enough are not calibrated, whatever the fit says.
+void RejectCamerasWithoutMotion(NetworkCalibration* out) {
+  for (size_t c = 0; c < out->motion.size(); ++c) {
+    const MotionCoverage& m = out->motion[c];
+    if (m.sufficient || m.frames == 0 || !out->placement[c].placed) continue;
+    spdlog::warn("{} is not calibrated: {}", out->cameras[c].id, m.advice);
+    out->placement[c].placed = false;
+    out->placement[c].reason = m.advice;
+  }
+}
+
 // Per-camera errors, frontier points and the calibrated cameras, from the final scene.
 void FillResult(const MetricScene& scene, const SyncResult& sync, NetworkCalibration* out) {
   const size_t n = scene.cameras.size();
@@ -277,6 +289,15 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
     ids.push_back(c.id);
 
   auto start = Clock::now();
+  if (sequences != nullptr) {
+    out.motion.resize(n);
+    for (size_t c = 0; c < n; ++c) {
+      const SilhouetteSequence* s = FindSequence(*sequences, cameras[c].id);
+      out.motion[c] = s != nullptr ? MeasureMotionCoverage(*s, options.motion) : MotionCoverage{};
+      out.motion[c].camera_id = cameras[c].id;
+      if (s != nullptr) spdlog::info("{}: {}", cameras[c].id, out.motion[c].Describe());
+    }
+  }
   std::vector<PairwiseResult> pairs = estimated_pairs;
   // With known intrinsics the relative rotations pick each pair's candidate (and start the
   // poses); otherwise the triplets of fundamental matrices resolve what they can.
@@ -341,9 +362,14 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
       if (upgrade) scene = UpgradeToMetric(projective.scene, *upgrade, cameras, &why);
       if (scene) {
         // Intrinsics no lens has mean the upgrade went wrong (a near-critical configuration).
+        // The linear upgrade is rough (the adjustment refines it): only a focal length out of
+        // range, or a principal point or aspect ratio far outside the gates, refuses it.
+        CalibrationGates start_gates = options.gates;
+        start_gates.max_principal_offset = std::max(start_gates.max_principal_offset, 0.5);
+        start_gates.max_aspect_error = std::max(start_gates.max_aspect_error, 0.5);
         for (size_t c = 0; c < n && scene; ++c) {
           if (!scene->present[c]) continue;
-          const std::string failure = GateFailure(scene->cameras[c], 1.0, options.gates);
+          const std::string failure = GateFailure(scene->cameras[c], 1.0, start_gates);
           if (failure.empty()) continue;
           why = fmt::format("implausible intrinsics for {}: {}", cameras[c].id, failure);
           scene.reset();
@@ -387,6 +413,8 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
     for (size_t c = 0; c < n; ++c) {
       if (out.placement[c].reason.empty())
         out.placement[c].reason = "the network could not be calibrated";
+      if (c < out.motion.size() && !out.motion[c].sufficient && out.motion[c].frames > 0)
+        out.placement[c].reason = out.motion[c].advice + " (" + out.placement[c].reason + ")";
       out.placement[c].added_by.clear();
     }
     out.pairs = CheckPairs(out.cameras, out.placement, pairs, used, options.corrected_px);
@@ -444,6 +472,7 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
   }
   NormalizeGauge(&*scene, options.rig_radius);
   FillResult(*scene, out.sync, &out);
+  RejectCamerasWithoutMotion(&out);
   if (const size_t rejected = ApplyCalibrationGates(options.gates, &out); rejected > 0) {
     out.stages.push_back({"sanity gates", 0.0, 0.0,
                           fmt::format("{} cameras rejected (see their reasons)", rejected)});

@@ -40,6 +40,7 @@ struct CalibrationOptions {
   GlobalStartOptions global;  // the start with known intrinsics (and after a focal search)
   FocalSearchOptions focal;   // when self-calibration cannot start the metric stage
   CalibrationGates gates;     // every calibrated camera must pass these
+  MotionCoverageOptions motion;  // and its silhouettes must have moved this much
   SyncOptions sync;
   BundleOptions bundle;                 // the Euclidean adjustments
   size_t final_tracks_per_link = 1500;  // correspondences per pair in the metric stages

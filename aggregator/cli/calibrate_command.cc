@@ -45,6 +45,8 @@ void PrintResult(const CalibrateJobResult& result, const std::string& out) {
   for (size_t k = 0; k < c.cameras.size(); ++k) {
     const CameraModel& cam = c.cameras[k];
     const CameraPlacement& p = c.placement[k];
+    if (k < c.motion.size() && c.motion[k].frames > 0)
+      std::printf("  %-8s motion: %s\n", cam.id.c_str(), c.motion[k].Describe().c_str());
     if (!p.placed) {
       std::printf("  %-8s not calibrated: %s\n", cam.id.c_str(), p.reason.c_str());
       continue;
@@ -93,6 +95,7 @@ int RunCalibrate(const CalibrateArgs& args) {
   config.ground_truth = args.ground_truth;
   config.max_frames = args.max_frames;
   config.mask_video = args.pairwise.mask_video;
+  config.frame_video = args.pairwise.frame_video;
   config.report = !args.no_report;
   config.calibration.intrinsics.square_pixels = !args.free_aspect;
   config.calibration.intrinsics.fix_principal_point = args.fix_principal_point;

@@ -69,6 +69,9 @@ void PairwiseArgs::AddTo(CLI::App* command) {
   command->add_option("--mask-video", mask_video,
                       "read each camera's silhouettes from this video file in its folder "
                       "(e.g. foreground.avi; grey above 128 is silhouette)");
+  command->add_option("--video", frame_video,
+                      "read each camera's colour video of this name in its folder and segment it "
+                      "with the node's pipeline");
 }
 
 PairwiseJobOptions PairwiseArgs::Options() const {

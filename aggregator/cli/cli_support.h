@@ -59,10 +59,11 @@ struct PairwiseArgs {
   int threads = 0;
   uint64_t seed = 1;
   size_t iterations = 1000000;
-  std::string mask_video;  // each camera folder's mask video (dataset input)
+  std::string mask_video;   // each camera folder's mask video (dataset input)
+  std::string frame_video;  // each camera folder's colour video (dataset input)
 
   // Adds --synchronized, --max-offset, --use-timestamps, --timestamp-sigma, --threads, --seed,
-  // --iterations and --mask-video to `command`.
+  // --iterations, --mask-video and --video to `command`.
   void AddTo(CLI::App* command);
   // The job options; throws InputError for invalid values.
   PairwiseJobOptions Options() const;

@@ -28,6 +28,7 @@ int RunPairs(const PairsArgs& args) {
   config.output = args.out;
   config.max_frames = args.max_frames;
   config.mask_video = args.pairwise.mask_video;
+  config.frame_video = args.pairwise.frame_video;
   config.options = args.pairwise.Options();
   config.overlays = ParseOverlays(args.overlays);
   const auto run =

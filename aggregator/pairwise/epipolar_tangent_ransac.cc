@@ -230,18 +230,22 @@ PairCandidate PairwiseResult::Chosen() const {
           inlier_matches};
 }
 
+void PairwiseResult::Adopt(PairCandidate candidate) {
+  model = candidate.model;
+  F = candidate.F;
+  offset = candidate.offset;
+  offset_sigma = candidate.offset_sigma;
+  inliers = candidate.inliers;
+  residual_rms = candidate.residual_rms;
+  candidates_agreeing = candidate.support;
+  inlier_matches = std::move(candidate.inlier_matches);
+}
+
 void PairwiseResult::Choose(size_t alternative, const std::string& why) {
   SILNET_CHECK(alternative < alternatives.size());
   PairCandidate chosen = std::move(alternatives[alternative]);
   alternatives[alternative] = Chosen();
-  model = chosen.model;
-  F = chosen.F;
-  offset = chosen.offset;
-  offset_sigma = chosen.offset_sigma;
-  inliers = chosen.inliers;
-  residual_rms = chosen.residual_rms;
-  candidates_agreeing = chosen.support;
-  inlier_matches = std::move(chosen.inlier_matches);
+  Adopt(std::move(chosen));
   status = PairStatus::kOk;
   reason = why;
 }

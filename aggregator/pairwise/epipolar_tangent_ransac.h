@@ -112,6 +112,8 @@ struct PairwiseResult {
 
   // The reported solution as a candidate.
   PairCandidate Chosen() const;
+  // Makes `candidate` the reported solution (status and reason unchanged).
+  void Adopt(PairCandidate candidate);
   // Makes `candidate` the reported solution (the previous one becomes an alternative) and
   // marks the pair ok with `reason` saying why it was chosen.
   void Choose(size_t alternative, const std::string& why);

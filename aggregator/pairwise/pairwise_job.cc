@@ -94,6 +94,22 @@ std::vector<TimedMatch> ReadMatchesCsv(const std::filesystem::path& file,
   return matches;
 }
 
+// One solution of a pair from its pairs.yaml node, with its correspondences from `csv` when
+// that is given and the solution has inliers.
+PairCandidate ReadCandidate(const cv::FileNode& node, const std::filesystem::path& path,
+                            const std::string& pair, const std::filesystem::path& csv) {
+  PairCandidate c;
+  c.F = ReadF(node, path, pair);
+  c.offset = node["offset"];
+  c.model = EpipolarModel::FromFundamental(c.F, c.offset);
+  c.offset_sigma = node["offset_sigma"];
+  c.inliers = static_cast<size_t>(static_cast<int>(node["inliers"]));
+  c.residual_rms = node["residual"];
+  c.support = static_cast<size_t>(static_cast<int>(node["agreeing"]));
+  if (!csv.empty() && c.inliers > 0) c.inlier_matches = ReadMatchesCsv(csv, path);
+  return c;
+}
+
 }  // namespace
 
 size_t PairwiseJobResult::ok() const {
@@ -200,32 +216,15 @@ std::vector<PairwiseResult> ReadPairsYaml(const std::filesystem::path& path,
                                         : PairStatus::kFailed;
     p.reason = static_cast<std::string>(node["reason"]);
     const std::string name = p.camera_i + "-" + p.camera_j;
-    p.F = ReadF(node, path, name);
-    p.offset = node["offset"];
-    p.model = EpipolarModel::FromFundamental(p.F, p.offset);
-    p.offset_sigma = node["offset_sigma"];
-    p.inliers = static_cast<size_t>(static_cast<int>(node["inliers"]));
-    p.residual_rms = node["residual"];
+    const auto csv = [&](const std::string& file) {
+      return matches_dir.empty() ? std::filesystem::path() : matches_dir / file;
+    };
+    p.Adopt(ReadCandidate(node, path, name, csv(name + ".csv")));
     p.spread_score = node["spread_score"];
     p.epipole_inside_fraction = node["epipole_inside_fraction"];
-    p.candidates_agreeing = static_cast<size_t>(static_cast<int>(node["agreeing"]));
-    if (!matches_dir.empty() && p.inliers > 0)
-      p.inlier_matches = ReadMatchesCsv(matches_dir / (name + ".csv"), path);
     int k = 0;
-    for (const cv::FileNode& a : node["alternatives"]) {
-      PairCandidate c;
-      c.F = ReadF(a, path, name);
-      c.offset = a["offset"];
-      c.model = EpipolarModel::FromFundamental(c.F, c.offset);
-      c.offset_sigma = a["offset_sigma"];
-      c.inliers = static_cast<size_t>(static_cast<int>(a["inliers"]));
-      c.residual_rms = a["residual"];
-      c.support = static_cast<size_t>(static_cast<int>(a["agreeing"]));
-      if (!matches_dir.empty() && c.inliers > 0)
-        c.inlier_matches = ReadMatchesCsv(matches_dir / AlternativeCsvName(name, k), path);
-      p.alternatives.push_back(std::move(c));
-      ++k;
-    }
+    for (const cv::FileNode& a : node["alternatives"])
+      p.alternatives.push_back(ReadCandidate(a, path, name, csv(AlternativeCsvName(name, k++))));
     out.push_back(std::move(p));
   }
   return out;
@@ -251,6 +250,7 @@ PairwiseJobResult RunPairsJob(const PairsJobConfig& config, Progress* progress) 
   load.allow_warmup = config.options.pair.allow_warmup;
   load.threads = config.options.threads;
   load.mask_video = config.mask_video;
+  load.frame_video = config.frame_video;
   SequenceSource source = SequenceSource::kSessionLogs;
   const std::vector<SilhouetteSequence> sequences = LoadSequences(config.input, load, &source);
   if (sequences.size() < 2) throw InputError(config.input.string() + ": fewer than two cameras");
@@ -274,7 +274,8 @@ PairwiseJobResult RunPairsOnSequences(const PairsJobConfig& config,
     std::filesystem::create_directories(config.output / "overlays");
     const DatasetLayout layout(config.input);
     auto image = [&](const SilhouetteSequence& s, uint64_t frame) {
-      if (source == SequenceSource::kSessionLogs || source == SequenceSource::kMaskVideo)
+      if (source == SequenceSource::kSessionLogs || source == SequenceSource::kMaskVideo ||
+          source == SequenceSource::kFrameVideo)
         return cv::Mat();
       const auto path = source == SequenceSource::kMaskDataset
                             ? layout.MaskPath(s.camera_id, static_cast<int>(frame))

@@ -58,8 +58,9 @@ struct PairsJobConfig {
   std::filesystem::path input;
   std::filesystem::path output;
   PairwiseJobOptions options;
-  int max_frames = 0;      // 0 = all
-  std::string mask_video;  // each camera folder's mask video, when the input is one
+  int max_frames = 0;       // 0 = all
+  std::string mask_video;   // each camera folder's mask video, when the input is one
+  std::string frame_video;  // each camera folder's colour video, when the input is one
   OverlaySelection overlays = OverlaySelection::kOk;
 };
 

@@ -96,11 +96,13 @@ SilhouetteSequence FromDatasetCamera(const DatasetLayout& layout, const std::str
       });
 }
 
-// A camera's mask video, decoded by the node's video file source.
-SilhouetteSequence FromMaskVideo(const DatasetLayout& layout, const std::string& id,
-                                 const SequenceLoadOptions& options) {
+// A camera's video (masks, or colour frames to segment), decoded by the node's video file
+// source.
+SilhouetteSequence FromVideo(const DatasetLayout& layout, const std::string& id,
+                             const std::string& file, bool masks,
+                             const SequenceLoadOptions& options) {
   node::VideoFileSourceOptions video;
-  video.file = layout.CameraDir(id) / options.mask_video;
+  video.file = layout.CameraDir(id) / file;
   video.fps = options.video_fps;
   video.first_frame = static_cast<uint64_t>(std::max(options.first_frame, 0));
   video.max_frames = static_cast<uint64_t>(std::max(options.max_frames, 0));
@@ -115,13 +117,13 @@ SilhouetteSequence FromMaskVideo(const DatasetLayout& layout, const std::string&
   size_t errors = 0;
   const cv::Size size(source.Format().width, source.Format().height);
   SilhouetteSequence seq = EncodeCamera(
-      id, true, options.first_frame, -1, fps, options.allow_warmup, [&](int) -> cv::Mat {
+      id, masks, options.first_frame, -1, fps, options.allow_warmup, [&](int) -> cv::Mat {
         node::CapturedFrame frame;
         const node::CaptureStatus status = source.Read(&frame, std::chrono::milliseconds(0));
         if (status == node::CaptureStatus::kFrame) return frame.image;
         if (status != node::CaptureStatus::kFrameError || size.area() == 0) return {};
         ++errors;
-        return cv::Mat::zeros(size, CV_8UC1);
+        return cv::Mat::zeros(size, masks ? CV_8UC1 : CV_8UC3);
       });
   if (errors > 0) spdlog::warn("{}: {} undecodable frames skipped", video.file.string(), errors);
   if (seq.frames.empty()) throw InputError(video.file.string() + ": no frame decoded");
@@ -180,16 +182,20 @@ std::vector<SilhouetteSequence> LoadSequences(const std::filesystem::path& input
     }
   }
   const DatasetLayout layout(input);
-  if (!options.mask_video.empty()) {
-    const std::vector<std::string> ids = layout.CameraIdsWithFile(options.mask_video);
+  if (!options.mask_video.empty() && !options.frame_video.empty())
+    throw InputError("give either a mask video or a colour video per camera, not both");
+  if (!options.mask_video.empty() || !options.frame_video.empty()) {
+    const bool masks = !options.mask_video.empty();
+    const std::string& file = masks ? options.mask_video : options.frame_video;
+    const std::vector<std::string> ids = layout.CameraIdsWithFile(file);
     if (ids.empty()) {
-      throw InputError(input.string() + ": no camera folder holds a mask video named " +
-                       options.mask_video);
+      throw InputError(input.string() + ": no camera folder holds a video named " + file);
     }
-    if (detected != nullptr) *detected = SequenceSource::kMaskVideo;
+    if (detected != nullptr)
+      *detected = masks ? SequenceSource::kMaskVideo : SequenceSource::kFrameVideo;
     std::vector<SilhouetteSequence> out(ids.size());
     ParallelFor(ids.size(), options.threads,
-                [&](size_t i) { out[i] = FromMaskVideo(layout, ids[i], options); });
+                [&](size_t i) { out[i] = FromVideo(layout, ids[i], file, masks, options); });
     return out;
   }
   const std::vector<std::string> ids = layout.CameraIds();

@@ -57,6 +57,7 @@ enum class SequenceSource {
   kMaskDataset,   // <camera>/masks/%06d.png, run through the node's encoder
   kFrameDataset,  // <camera>/frames/%06d.png, segmented by the node's pipeline
   kMaskVideo,     // <camera>/<mask_video>: silhouettes as a video, thresholded at mask_threshold
+  kFrameVideo,    // <camera>/<frame_video>: colour video, segmented by the node's pipeline
 };
 
 // Options of LoadSequences.
@@ -66,6 +67,7 @@ struct SequenceLoadOptions {
   bool allow_warmup = false;  // use frames flagged FRAME_WARMUP
   int threads = 0;            // datasets: cameras read in parallel (0 = all cores)
   std::string mask_video;     // file name of each camera's mask video; empty = no video input
+  std::string frame_video;    // file name of each camera's colour video (segmented); or empty
   double video_fps = 0.0;     // mask videos: frame rate (0 = the container's)
 };
 
@@ -73,8 +75,9 @@ struct SequenceLoadOptions {
 // sessions/), a dataset folder with masks/ (or frames/) per camera, or, when
 // `options.mask_video` names a file, camera folders holding such a mask video (decoded
 // frames thresholded by the node's mask input, so a lossy codec's blurred edges fall at half
-// grey). For session logs the newest session of each camera is used. Throws InputError
-// naming the input if it holds none of these, or if a file is unreadable.
+// grey), or when `options.frame_video` does, colour videos segmented by the node's pipeline. For
+// session logs the newest session of each camera is used. Throws InputError naming the input if it
+// holds none of these, or if a file is unreadable.
 std::vector<SilhouetteSequence> LoadSequences(const std::filesystem::path& input,
                                               const SequenceLoadOptions& options = {},
                                               SequenceSource* detected = nullptr);

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "aggregator/calibration/motion_coverage.h"
 #include "aggregator/report/error_histogram_plot.h"
 #include "aggregator/report/html_table.h"
 #include "aggregator/report/network_plot.h"
@@ -27,6 +28,20 @@ void CreateFolder(const std::filesystem::path& dir) {
 std::string Figure(const std::string& file, const std::string& caption) {
   return "<figure><img src=\"plots/" + EscapeHtml(file) + "\" alt=\"" + EscapeHtml(caption) +
          "\"><figcaption>" + EscapeHtml(caption) + "</figcaption></figure>\n";
+}
+
+// One picture per camera of where its silhouettes went, and what each camera lacks.
+std::string MotionSection(const std::filesystem::path& dir, const NetworkCalibration& calibration) {
+  std::string html =
+      "<p>Where each camera's silhouettes went during the capture (brighter: more often). "
+      "Calibration needs them to sweep the image and move in many directions.</p>\n";
+  for (const MotionCoverage& m : calibration.motion) {
+    if (m.frames == 0) continue;
+    const std::string file = "motion_" + m.camera_id + ".png";
+    WritePngFast(dir / "plots" / file, DrawMotionCoverage(m));
+    html += Figure(file, m.camera_id + ": " + m.Describe() + (m.sufficient ? "" : ". " + m.advice));
+  }
+  return html;
 }
 
 }  // namespace
@@ -54,6 +69,7 @@ void WriteCalibrationReport(const std::filesystem::path& dir, const NetworkCalib
                          "Time offsets (frames) and pairwise offset measurements; residual "
                          "labels are in frames.") +
                       SyncEdgesSection(calibration));
+  if (!calibration.motion.empty()) html += Section("Motion", MotionSection(dir, calibration));
   html += Section("Pairwise checks", PairChecksSection(calibration));
   if (errors.has_value()) html += Section("Ground truth", GroundTruthSection(*errors));
   WriteHtmlPage(dir / "report.html", "silnet calibration report", html);

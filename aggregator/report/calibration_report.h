@@ -13,7 +13,8 @@
 namespace silnet::aggregator {
 
 // Writes <dir>/report.html and <dir>/plots/{camera_network,reprojection_errors,
-// offsets_graph}.png (creating the folders; the page links the plots relatively, so the
+// offsets_graph}.png, and motion_<camera>.png per camera when the calibration measured the
+// silhouettes' motion (creating the folders; the page links the plots relatively, so the
 // folder can be moved as a whole). All text from the calibration (ids, reasons, notes) is
 // HTML-escaped. Unplaced cameras appear in the tables with their reason, not in the 3D
 // view. `errors` adds a section comparing with ground truth. Throws InputError naming the
