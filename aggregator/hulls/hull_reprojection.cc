@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "shared/util/check.h"
 
@@ -39,6 +40,23 @@ void FillTriangle(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eige
   }
 }
 
+// The silhouette pixels whose centre lies more than kFarFromOutlinePx from the outline, which
+// runs half a pixel outside the boundary pixel centres: no background pixel centre within
+// kFarFromOutlinePx + 0.5 (an erosion by that disc; outside the image counts as silhouette).
+cv::Mat FarFromOutline(const cv::Mat& inside) {
+  const double radius = kFarFromOutlinePx + 0.5;
+  const int r = static_cast<int>(std::floor(radius));
+  cv::Mat disc = cv::Mat::zeros(2 * r + 1, 2 * r + 1, CV_8UC1);
+  for (int dy = -r; dy <= r; ++dy) {
+    for (int dx = -r; dx <= r; ++dx) {
+      if (dx * dx + dy * dy <= radius * radius) disc.at<uint8_t>(dy + r, dx + r) = 1;
+    }
+  }
+  cv::Mat far;
+  cv::erode(inside, far, disc, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar::all(255));
+  return far;
+}
+
 }  // namespace
 
 cv::Mat RenderMeshSilhouette(const TriangleMesh& mesh, const CameraModel& camera) {
@@ -72,6 +90,12 @@ ViewReprojection CompareWithSilhouette(const cv::Mat& rendered, const cv::Mat& s
     const auto n = static_cast<double>(result.silhouette_pixels);
     result.missed_fraction = static_cast<double>(result.missed_pixels) / n;
     result.spurious_fraction = static_cast<double>(result.spurious_pixels) / n;
+  }
+  if (result.missed_pixels > 0) {
+    result.missed_far_pixels =
+        static_cast<size_t>(cv::countNonZero(FarFromOutline(inside) & ~covered));
+    result.missed_far_fraction = static_cast<double>(result.missed_far_pixels) /
+                                 static_cast<double>(result.silhouette_pixels);
   }
   return result;
 }

@@ -22,7 +22,15 @@ struct ViewReprojection {
   size_t spurious_pixels = 0;    // covered pixels outside the silhouette
   double missed_fraction = 0;    // missed / silhouette pixels (0 if the silhouette is empty)
   double spurious_fraction = 0;  // spurious / silhouette pixels (0 if the silhouette is empty)
+  // Missed pixels farther than kFarFromOutlinePx from the silhouette's outline (their centre
+  // more than 2.5 px from every background pixel centre): the misses a calibration that
+  // disagrees with the masks by a pixel or two does not explain.
+  size_t missed_far_pixels = 0;
+  double missed_far_fraction = 0;  // missed_far / silhouette pixels
 };
+
+// Distance from the silhouette outline beyond which a missed pixel counts as far (pixels).
+inline constexpr double kFarFromOutlinePx = 2.0;
 
 // CV_8UC1 image of the camera's size, 255 where the mesh covers the pixel centre.
 // Triangles with a vertex behind the camera are skipped.

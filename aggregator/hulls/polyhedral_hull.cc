@@ -562,7 +562,12 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
   ContourOptions contour_options;
   contour_options.tolerance_px = options.contour_tolerance_px;
   contour_options.smoothing_passes = options.contour_smoothing_passes;
-  contour_options.boundary_offset_px = options.contour_offset_px;
+  contour_options.boundary_offset_px = options.contour_cover_pixel_centres
+                                           ? options.contour_cover_offset_px
+                                           : options.contour_offset_px;
+  contour_options.cover_pixel_centres = options.contour_cover_pixel_centres;
+  contour_options.cover_margin_px = options.contour_cover_margin_px;
+  contour_options.cover_background_slack_px = options.contour_cover_background_slack_px;
   std::vector<SilhouetteContours> contours;
   std::vector<cv::Rect> rects;
   contours.reserve(masks.size());

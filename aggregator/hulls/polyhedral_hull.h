@@ -57,6 +57,15 @@ struct PolyhedralHullOptions {
   // (slightly beyond the pixel edges, so the simplified outline still covers them).
   int contour_smoothing_passes = 1;
   double contour_offset_px = 0.6;
+  // Simplify conservatively (covering_contour.h) instead: the silhouette's boundary pixel
+  // centres lie at least `contour_cover_margin_px` inside the contour edges, so with true
+  // cameras the hull misses almost no pixel; outline points `contour_cover_offset_px`
+  // outside the centres. About 3.3 times the cone faces and time of the default contours,
+  // hence off by default (docs/PERFORMANCE.md).
+  bool contour_cover_pixel_centres = false;
+  double contour_cover_offset_px = 0.4;
+  double contour_cover_margin_px = 0.1;
+  double contour_cover_background_slack_px = 0.15;  // see CoveringOptions
   double bounds_padding = 0.05;  // viewing-cone bounds are grown by this fraction per side
 };
 

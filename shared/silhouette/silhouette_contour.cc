@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "shared/silhouette/covering_contour.h"
 #include "shared/util/check.h"
 
 namespace silnet {
@@ -12,22 +14,28 @@ namespace {
 // Moves the points of a ring traced through boundary pixel centres onto the boundary: `offset`
 // lattice steps (half of one puts it on the pixel edges) along the normal towards the
 // background, `side` = +1 when the background lies to the right of the traced direction
-// (pixel coordinates), -1 when to the left.
+// (pixel coordinates), -1 when to the left. At the end of a one pixel wide line (the ring
+// turns back) the point moves along the line, out of its end, if `ends_outward`, else across.
 std::vector<cv::Point2f> OffsetToBoundary(const std::vector<cv::Point>& ring, double side,
-                                          float offset) {
+                                          float offset, bool ends_outward) {
   const size_t n = ring.size();
   std::vector<cv::Point2f> out(n);
   for (size_t i = 0; i < n; ++i) {
     const cv::Point& prev = ring[(i + n - 1) % n];
     const cv::Point& next = ring[(i + 1) % n];
     cv::Point2f tangent(static_cast<float>(next.x - prev.x), static_cast<float>(next.y - prev.y));
-    if (tangent.x == 0 && tangent.y == 0) {
+    const bool end = tangent.x == 0 && tangent.y == 0;
+    if (end) {
       tangent = cv::Point2f(static_cast<float>(ring[i].x - prev.x),
                             static_cast<float>(ring[i].y - prev.y));
     }
     const float length = std::hypot(tangent.x, tangent.y);
     cv::Point2f normal(0, 0);
-    if (length > 0) normal = cv::Point2f(-tangent.y, tangent.x) * static_cast<float>(side / length);
+    if (length > 0 && end && ends_outward) {
+      normal = tangent / length;
+    } else if (length > 0) {
+      normal = cv::Point2f(-tangent.y, tangent.x) * static_cast<float>(side / length);
+    }
     const float step = offset / std::max(1.0f, std::abs(normal.x) + std::abs(normal.y));
     out[i] =
         cv::Point2f(static_cast<float>(ring[i].x), static_cast<float>(ring[i].y)) + normal * step;
@@ -60,6 +68,34 @@ std::vector<Eigen::Vector2f> Simplify(const std::vector<cv::Point2f>& ring, doub
   for (const cv::Point2f& p : simplified)
     out.emplace_back(p.x, p.y);
   return out;
+}
+
+// Appends the two background pixel centres next to boundary pixel `centre` that lie farthest
+// towards its outline point `outline`, one across an edge and one across a corner (NaN where
+// there is none); outside the image counts as background.
+void AddBackgroundNeighbours(const cv::Mat& mask, const cv::Point& centre,
+                             const cv::Point2f& outline, std::vector<Eigen::Vector2f>& out) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const cv::Point2f outward(outline.x - static_cast<float>(centre.x),
+                            outline.y - static_cast<float>(centre.y));
+  for (const bool diagonal : {false, true}) {
+    Eigen::Vector2f best(nan, nan);
+    float best_dot = 0;
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        if ((dx != 0 && dy != 0) != diagonal || (dx == 0 && dy == 0)) continue;
+        const int x = centre.x + dx, y = centre.y + dy;
+        const bool inside = x >= 0 && y >= 0 && x < mask.cols && y < mask.rows;
+        if (inside && mask.at<uint8_t>(y, x) != 0) continue;
+        const float dot = static_cast<float>(dx) * outward.x + static_cast<float>(dy) * outward.y;
+        if (dot > best_dot) {
+          best_dot = dot;
+          best = Eigen::Vector2f(static_cast<float>(x), static_cast<float>(y));
+        }
+      }
+    }
+    out.push_back(best);
+  }
 }
 
 }  // namespace
@@ -103,38 +139,89 @@ SilhouetteContours ExtractContours(const cv::Mat& mask, const ContourOptions& op
   const cv::Rect box = cv::boundingRect(mask);
   if (box.area() == 0) return {};
   cv::findContours(mask(box), rings, hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_NONE, box.tl());
-  SilhouetteContours contours;
+  // Orientation of the traced ring decides on which side the background is.
+  auto to_boundary = [&](const std::vector<cv::Point>& ring, bool hole) {
+    double traced = 0.0;  // twice the signed area, same convention as RingArea
+    for (size_t k = 0; k < ring.size(); ++k) {
+      const cv::Point& a = ring[k];
+      const cv::Point& b = ring[(k + 1) % ring.size()];
+      traced += static_cast<double>(a.x) * b.y - static_cast<double>(b.x) * a.y;
+    }
+    // For an outer ring the background is outside; for a hole, inside the traced ring.
+    double side = traced >= 0 ? -1.0 : 1.0;
+    if (hole) side = -side;
+    // Smoothing pulls the points of narrow tips back onto (or inside) their pixel centres:
+    // for the covering simplification a point moves only where it lands farther out.
+    const bool cover = options.cover_pixel_centres;
+    std::vector<cv::Point2f> boundary =
+        OffsetToBoundary(ring, side, static_cast<float>(options.boundary_offset_px), cover);
+    if (!cover) {
+      SmoothRing(boundary, options.smoothing_passes);
+    } else if (options.smoothing_passes > 0) {
+      std::vector<cv::Point2f> smoothed = boundary;
+      SmoothRing(smoothed, options.smoothing_passes);
+      for (size_t k = 0; k < boundary.size(); ++k) {
+        const cv::Point2f centre(static_cast<float>(ring[k].x), static_cast<float>(ring[k].y));
+        const cv::Point2f normal = boundary[k] - centre;
+        if ((smoothed[k] - centre).dot(normal) >= normal.dot(normal)) boundary[k] = smoothed[k];
+      }
+    }
+    return boundary;
+  };
+  // Every ring (outer rings and their holes, in that order) and the polygon it belongs to.
+  std::vector<std::vector<Eigen::Vector2f>> simplified;
+  std::vector<int> owner;  // index of the outer ring, or -1 for an outer ring
+  std::vector<TracedRing> traced;
   for (size_t i = 0; i < rings.size(); ++i) {
     if (hierarchy[i][3] >= 0) continue;  // a hole; handled with its parent
-    // Orientation of the traced ring decides on which side the background is.
-    auto to_boundary = [&](const std::vector<cv::Point>& ring, bool hole) {
-      double traced = 0.0;  // twice the signed area, same convention as RingArea
-      for (size_t k = 0; k < ring.size(); ++k) {
-        const cv::Point& a = ring[k];
-        const cv::Point& b = ring[(k + 1) % ring.size()];
-        traced += static_cast<double>(a.x) * b.y - static_cast<double>(b.x) * a.y;
+    const int outer = static_cast<int>(owner.size());
+    auto add = [&](const std::vector<cv::Point>& ring, bool hole) {
+      owner.push_back(hole ? outer : -1);
+      const std::vector<cv::Point2f> boundary = to_boundary(ring, hole);
+      if (!options.cover_pixel_centres) {
+        simplified.push_back(Simplify(boundary, options.tolerance_px));
+        return;
       }
-      // For an outer ring the background is outside; for a hole, inside the traced ring.
-      double side = traced >= 0 ? -1.0 : 1.0;
-      if (hole) side = -side;
-      std::vector<cv::Point2f> boundary =
-          OffsetToBoundary(ring, side, static_cast<float>(options.boundary_offset_px));
-      SmoothRing(boundary, options.smoothing_passes);
-      return boundary;
+      TracedRing t;
+      for (size_t k = 0; k < ring.size(); ++k) {
+        t.centres.emplace_back(static_cast<float>(ring[k].x), static_cast<float>(ring[k].y));
+        t.outline.emplace_back(boundary[k].x, boundary[k].y);
+        AddBackgroundNeighbours(mask, ring[k], boundary[k], t.background);
+      }
+      // The silhouette on the left: outer rings positive, holes negative.
+      if ((RingArea(t.outline) < 0) != hole) {
+        std::reverse(t.centres.begin(), t.centres.end());
+        std::reverse(t.outline.begin(), t.outline.end());
+        std::reverse(t.background.begin(), t.background.end());  // pairs stay together
+      }
+      traced.push_back(std::move(t));
     };
-    ContourPolygon polygon;
-    polygon.outer = Simplify(to_boundary(rings[i], false), options.tolerance_px);
-    if (RingArea(polygon.outer) < 0) std::reverse(polygon.outer.begin(), polygon.outer.end());
-    if (std::abs(RingArea(polygon.outer)) < options.min_region_area) continue;
-    for (int child = hierarchy[i][2]; child >= 0;
-         child = hierarchy[static_cast<size_t>(child)][0]) {
-      std::vector<Eigen::Vector2f> hole =
-          Simplify(to_boundary(rings[static_cast<size_t>(child)], true), options.tolerance_px);
-      if (RingArea(hole) > 0) std::reverse(hole.begin(), hole.end());
-      if (std::abs(RingArea(hole)) >= options.min_hole_area)
-        polygon.holes.push_back(std::move(hole));
+    add(rings[i], false);
+    for (int child = hierarchy[i][2]; child >= 0; child = hierarchy[static_cast<size_t>(child)][0])
+      add(rings[static_cast<size_t>(child)], true);
+  }
+  if (options.cover_pixel_centres) {
+    CoveringOptions covering;
+    covering.margin_px = options.cover_margin_px;
+    covering.background_slack_px = options.cover_background_slack_px;
+    simplified = SimplifyCovering(traced, covering);
+  }
+  SilhouetteContours contours;
+  std::vector<int> polygon_of(owner.size(), -1);
+  for (size_t r = 0; r < simplified.size(); ++r) {
+    std::vector<Eigen::Vector2f>& ring = simplified[r];
+    const bool hole = owner[r] >= 0;
+    if ((RingArea(ring) < 0) != hole) std::reverse(ring.begin(), ring.end());
+    if (!hole) {
+      if (std::abs(RingArea(ring)) < options.min_region_area) continue;
+      polygon_of[r] = static_cast<int>(contours.polygons.size());
+      contours.polygons.emplace_back();
+      contours.polygons.back().outer = std::move(ring);
+      continue;
     }
-    contours.polygons.push_back(std::move(polygon));
+    const int polygon = polygon_of[static_cast<size_t>(owner[r])];
+    if (polygon >= 0 && std::abs(RingArea(ring)) >= options.min_hole_area)
+      contours.polygons[static_cast<size_t>(polygon)].holes.push_back(std::move(ring));
   }
   return contours;
 }

@@ -6,6 +6,8 @@
 // orientation. By default points lie on the estimated silhouette boundary, half a lattice
 // step outside the boundary pixel centres (0.5 px across axis-aligned edges, 0.35 px across
 // diagonal ones); options can place them further out and smooth the pixel staircase first.
+// Plain Douglas-Peucker may cut the outline inside some boundary pixel centres; the covering
+// simplification (covering_contour.h) never does.
 
 #include <Eigen/Core>
 #include <opencv2/core/mat.hpp>
@@ -35,6 +37,12 @@ struct ContourOptions {
   double min_hole_area = 4.0;       // drop holes smaller than this
   double boundary_offset_px = 0.5;  // outline's distance outside the boundary pixel centres
   int smoothing_passes = 0;         // [1 2 1] / 4 passes along the ring before simplifying
+  // Simplify conservatively (covering_contour.h): the boundary pixel centres lie at least
+  // `cover_margin_px` inside the outline's edges. tolerance_px is then not used, and an
+  // outline point takes its smoothed position only where that lies farther out.
+  bool cover_pixel_centres = false;
+  double cover_margin_px = 0.1;
+  double cover_background_slack_px = 0.15;  // see CoveringOptions::background_slack_px
 };
 
 // Extracts the outline of the nonzero pixels of a CV_8UC1 mask.

@@ -81,12 +81,10 @@ void BM_CarveAndMesh8Views(benchmark::State& state) {
 }
 BENCHMARK(BM_CarveAndMesh8Views)->Arg(10)->Arg(20)->Unit(benchmark::kMillisecond);
 
-// Arg: contour tolerance in tenths of a pixel. Counters: the worst view's missed and extra
+// The polyhedral hull of TheFrame with `options`; counters: the worst view's missed and extra
 // silhouette pixels (percent), the mesh's triangles and the cone faces (contour edges).
-void BM_PolyhedralHull8Views(benchmark::State& state) {
+void RunPolyhedralHull8Views(benchmark::State& state, const PolyhedralHullOptions& options) {
   const Frame& frame = TheFrame();
-  PolyhedralHullOptions options;
-  options.contour_tolerance_px = static_cast<double>(state.range(0)) / 10.0;
   PolyhedralHullResult hull;
   for (auto _ : state) {
     hull = ComputePolyhedralHull(frame.cameras, frame.masks, options);
@@ -103,7 +101,22 @@ void BM_PolyhedralHull8Views(benchmark::State& state) {
   state.counters["worst_view_missed_pct"] = 100.0 * missed;
   state.counters["worst_view_extra_pct"] = 100.0 * extra;
 }
+
+// Arg: contour tolerance in tenths of a pixel (6 is the default).
+void BM_PolyhedralHull8Views(benchmark::State& state) {
+  PolyhedralHullOptions options;
+  options.contour_tolerance_px = static_cast<double>(state.range(0)) / 10.0;
+  RunPolyhedralHull8Views(state, options);
+}
 BENCHMARK(BM_PolyhedralHull8Views)->Arg(5)->Arg(6)->Arg(10)->Unit(benchmark::kMillisecond);
+
+// With covering contours (PolyhedralHullOptions::contour_cover_pixel_centres).
+void BM_PolyhedralHull8ViewsCovering(benchmark::State& state) {
+  PolyhedralHullOptions options;
+  options.contour_cover_pixel_centres = true;
+  RunPolyhedralHull8Views(state, options);
+}
+BENCHMARK(BM_PolyhedralHull8ViewsCovering)->Unit(benchmark::kMillisecond);
 
 // Arg 0: the INRIA dancer (8 views, 780x582); 1: Tsinghua WD2 (20 views, 1024x768).
 void BM_PolyhedralHullRealCapture(benchmark::State& state) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -161,6 +162,64 @@ TEST(RealDataHullTest, PolyhedralHullOfWd2) {
   const std::filesystem::path folder = kData / "tsinghua-wd2-20cam";
   if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
   CheckPolyhedral(LoadTsinghuaWd2(folder, false), "wd2");
+}
+
+// Polyhedral hulls from covering contours (PolyhedralHullOptions::contour_cover_pixel_centres)
+// with the captures' own cameras, which disagree with the masks by 1-2 px: per view, at most
+// kCoveringMissedFar of the silhouette pixels missed farther than 2 px from its outline (issue
+// 16, item 5), but in the views named in `exceptions`, up to the fraction given there.
+constexpr double kCoveringMissedFar = 0.005;
+
+void CheckCoveringHull(const RealCapture& capture, const std::string& name, bool expect_closed,
+                       const std::map<std::string, double>& exceptions) {
+  PolyhedralHullOptions options;
+  options.contour_cover_pixel_centres = true;
+  const PolyhedralHullResult exact = ComputePolyhedralHull(capture.cameras, capture.masks, options);
+  std::printf("%s covering: %s, %zu triangles, %zu cone faces, %zu gaps filled\n", name.c_str(),
+              exact.success ? "closed" : exact.reason.c_str(), exact.mesh.triangles.size(),
+              exact.stats.cone_faces, exact.stats.gaps_filled);
+  if (expect_closed) {
+    EXPECT_TRUE(exact.success) << name << ": " << exact.reason;
+  }
+  ASSERT_FALSE(exact.mesh.triangles.empty()) << name << ": " << exact.reason;
+  const std::vector<ViewReprojection> views =
+      MeasureHullReprojection(exact.mesh, capture.cameras, capture.masks);
+  for (size_t c = 0; c < views.size(); ++c) {
+    const ViewReprojection& v = views[c];
+    const std::string& id = capture.cameras[c].id;
+    std::printf(
+        "  %-10s %7zu px  missed %.3f %% (> 2 px from the outline %.3f %%)  extra %.3f %%\n",
+        id.c_str(), v.silhouette_pixels, 100 * v.missed_fraction, 100 * v.missed_far_fraction,
+        100 * v.spurious_fraction);
+    const auto exception = exceptions.find(id);
+    EXPECT_LE(v.missed_far_fraction,
+              exception == exceptions.end() ? kCoveringMissedFar : exception->second)
+        << id;
+  }
+}
+
+TEST(RealDataHullTest, CoveringHullOfTheDancer) {
+  const std::filesystem::path folder = kData / "inria-dancer-silhouettes";
+  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  RealCapture capture = LoadInriaDancer(folder);
+  for (cv::Mat& mask : capture.masks)
+    mask = KeepLargestComponent(mask);
+  // dancer0004's streak above the head that no other view confirms (see kDancer4Missed):
+  // measured 0.556 % beyond 2 px, with the default contours too.
+  CheckCoveringHull(capture, "dancer", true, {{"dancer0004", 0.006}});
+}
+
+TEST(RealDataHullTest, CoveringHullOfWd2) {
+  const std::filesystem::path folder = kData / "tsinghua-wd2-20cam";
+  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  // Not closed yet: 20 views of covering contours give 3.4 times the cone faces and more
+  // near-degenerate configurations than the gap filler closes, as do the default contours at
+  // 0.2-0.4 px tolerance (docs/PERFORMANCE.md); the figures are those of the mesh with its
+  // few open edges. Views 01 and 18 miss 0.73 % and 0.72 % beyond 2 px, about as much as
+  // with the default contours (0.67 %, 0.72 %): there the given cameras disagree with the
+  // masks by more than 2 px, which no contour makes up for.
+  CheckCoveringHull(LoadTsinghuaWd2(folder, false), "wd2", false,
+                    {{"wd2_01", 0.008}, {"wd2_18", 0.008}});
 }
 
 // A small simulated dataset: 6 cameras with fractional time offsets, exact masks.
