@@ -7,6 +7,7 @@
 #include <map>
 
 #include "aggregator/calibration/triplet_consistency.h"
+#include "aggregator/calibration/view_graph.h"
 #include "shared/util/statistics.h"
 
 namespace silnet::aggregator {
@@ -23,11 +24,7 @@ class TrustedPairs {
         f_[{i, j}] = pairs[p].F;
     }
   }
-  size_t Index(const std::string& id) const {
-    return static_cast<size_t>(
-        std::find_if(cameras_.begin(), cameras_.end(), [&](const auto& c) { return c.id == id; }) -
-        cameras_.begin());
-  }
+  size_t Index(const std::string& id) const { return CameraIndex(cameras_, id); }
   bool Has(size_t a, size_t b) const { return f_.count({a, b}) > 0 || f_.count({b, a}) > 0; }
   Eigen::Matrix3d F(size_t a, size_t b) const {
     const auto it = f_.find({a, b});

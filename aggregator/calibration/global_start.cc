@@ -34,12 +34,6 @@ double AngleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return Eigen::AngleAxisd(a * b.transpose()).angle() / kDegree;
 }
 
-size_t IndexOf(const std::vector<CameraModel>& cameras, const std::string& id) {
-  return static_cast<size_t>(
-      std::find_if(cameras.begin(), cameras.end(), [&](const auto& c) { return c.id == id; }) -
-      cameras.begin());
-}
-
 // The relative pose of a candidate solution, from its essential matrix and matches.
 std::optional<RelativePose> PoseOf(const std::vector<CameraModel>& cameras, size_t i, size_t j,
                                    const PairCandidate& candidate) {
@@ -60,7 +54,7 @@ std::vector<PosedPair> PosePairs(const std::vector<CameraModel>& cameras,
   for (size_t p = 0; p < pairs.size(); ++p) {
     const PairwiseResult& r = pairs[p];
     if (r.status != PairStatus::kOk && r.status != PairStatus::kAmbiguous) continue;
-    const size_t i = IndexOf(cameras, r.camera_i), j = IndexOf(cameras, r.camera_j);
+    const size_t i = CameraIndex(cameras, r.camera_i), j = CameraIndex(cameras, r.camera_j);
     if (i >= cameras.size() || j >= cameras.size() || i == j) continue;
     PosedPair posed{p, i, j, {}};
     std::vector<PairCandidate> candidates = {r.Chosen()};

@@ -30,17 +30,11 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-size_t IndexOf(const std::vector<CameraModel>& cameras, const std::string& id) {
-  return static_cast<size_t>(
-      std::find_if(cameras.begin(), cameras.end(), [&](const auto& c) { return c.id == id; }) -
-      cameras.begin());
-}
-
 std::vector<OffsetEdge> OffsetEdges(const std::vector<CameraModel>& cameras,
                                     const std::vector<PairwiseResult>& pairs) {
   std::vector<OffsetEdge> edges;
   for (const PairwiseResult& p : pairs) {
-    const size_t i = IndexOf(cameras, p.camera_i), j = IndexOf(cameras, p.camera_j);
+    const size_t i = CameraIndex(cameras, p.camera_i), j = CameraIndex(cameras, p.camera_j);
     if (p.status != PairStatus::kOk || i >= cameras.size() || j >= cameras.size() || i == j)
       continue;
     edges.push_back({i, j, p.offset, std::max(p.offset_sigma, 1e-3)});
@@ -443,8 +437,8 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
   refine.Adjust(graph, &*scene, "Euclidean bundle adjustment");
   if (progress) progress->Advance();
   for (size_t p = 0; p < pairs.size(); ++p) {
-    const ViewLink* link =
-        graph.Find(IndexOf(cameras, pairs[p].camera_i), IndexOf(cameras, pairs[p].camera_j));
+    const ViewLink* link = graph.Find(CameraIndex(cameras, pairs[p].camera_i),
+                                      CameraIndex(cameras, pairs[p].camera_j));
     used[p] = link != nullptr && scene->present[link->i] && scene->present[link->j];
   }
   if (sequences != nullptr) {
@@ -464,8 +458,8 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
                    SecondsSince(start));
       refine.Adjust(rematched, &*scene, fmt::format("re-matched bundle adjustment {}", round + 1));
       for (size_t p = 0; p < pairs.size(); ++p) {
-        used[p] = used[p] || rematched.Find(IndexOf(cameras, pairs[p].camera_i),
-                                            IndexOf(cameras, pairs[p].camera_j)) != nullptr;
+        used[p] = used[p] || rematched.Find(CameraIndex(cameras, pairs[p].camera_i),
+                                            CameraIndex(cameras, pairs[p].camera_j)) != nullptr;
       }
       if (progress) progress->Advance();
     }

@@ -52,6 +52,12 @@ std::vector<size_t> ViewGraph::Neighbours(size_t camera) const {
   return out;
 }
 
+size_t CameraIndex(const std::vector<CameraModel>& cameras, const std::string& id) {
+  return static_cast<size_t>(
+      std::find_if(cameras.begin(), cameras.end(), [&](const auto& c) { return c.id == id; }) -
+      cameras.begin());
+}
+
 ViewGraph BuildViewGraph(const std::vector<std::string>& camera_ids,
                          const std::vector<PairwiseResult>& pairs) {
   ViewGraph graph(camera_ids.size());

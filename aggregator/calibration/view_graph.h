@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "aggregator/pairwise/epipolar_tangent_ransac.h"
+#include "shared/geometry/camera_model.h"
 
 namespace silnet::aggregator {
 
@@ -52,6 +53,9 @@ class ViewGraph {
   size_t cameras_;
   std::vector<ViewLink> links_;
 };
+
+// Index of the camera named `id` in `cameras`, or cameras.size() if there is none.
+size_t CameraIndex(const std::vector<CameraModel>& cameras, const std::string& id);
 
 // The view graph of the ok pairs among `camera_ids` (pairs naming unknown cameras are
 // ignored); correspondences at each pair's estimated offset.
