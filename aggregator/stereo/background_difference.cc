@@ -1,0 +1,49 @@
+#include "aggregator/stereo/background_difference.h"
+
+#include "shared/util/check.h"
+
+namespace silnet::aggregator {
+
+node::SegmentationOptions BackgroundDifferenceOptions::DefaultNodeOptions() {
+  node::SegmentationOptions options;
+  options.min_difference = 25.0;
+  return options;
+}
+
+BackgroundDifference SegmentAgainstBackground(const cv::Mat& still, const cv::Mat& background,
+                                              const BackgroundDifferenceOptions& options) {
+  if (still.type() != CV_8UC3 || background.type() != CV_8UC3)
+    throw InputError("background difference needs 8-bit BGR images");
+  if (still.size() != background.size()) {
+    throw InputError("the background is " + std::to_string(background.cols) + "x" +
+                     std::to_string(background.rows) + ", the still " + std::to_string(still.cols) +
+                     "x" + std::to_string(still.rows));
+  }
+  const node::SegmentationOptions& o = options.node;
+  const float min2 = static_cast<float>(o.min_difference * o.min_difference);
+  const float chroma2 = static_cast<float>(o.shadow_chroma * o.shadow_chroma);
+  BackgroundDifference result;
+  result.mask = cv::Mat(still.size(), CV_8UC1, cv::Scalar(0));
+  for (int y = 0; y < still.rows; ++y) {
+    const uint8_t* in = still.ptr<uint8_t>(y);
+    const uint8_t* bg = background.ptr<uint8_t>(y);
+    uint8_t* out = result.mask.ptr<uint8_t>(y);
+    for (int x = 0; x < still.cols; ++x) {
+      const float i0 = in[3 * x], i1 = in[3 * x + 1], i2 = in[3 * x + 2];
+      const float b0 = bg[3 * x], b1 = bg[3 * x + 1], b2 = bg[3 * x + 2];
+      const float d0 = i0 - b0, d1 = i1 - b1, d2 = i2 - b2;
+      if (d0 * d0 + d1 * d1 + d2 * d2 <= min2) continue;
+      const float bb = b0 * b0 + b1 * b1 + b2 * b2;
+      const float alpha = bb > 1.0f ? (i0 * b0 + i1 * b1 + i2 * b2) / bb : 1.0f;
+      if (o.suppress_shadows && alpha >= o.shadow_min_ratio && alpha <= o.shadow_max_ratio) {
+        const float c0 = i0 - alpha * b0, c1 = i1 - alpha * b1, c2 = i2 - alpha * b2;
+        if (c0 * c0 + c1 * c1 + c2 * c2 < chroma2 * alpha * alpha * bb) continue;
+      }
+      out[x] = 255;
+    }
+  }
+  result.cleanup = node::CleanMask(&result.mask, o);
+  return result;
+}
+
+}  // namespace silnet::aggregator

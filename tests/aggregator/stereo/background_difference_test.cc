@@ -1,0 +1,58 @@
+// The single-background segmenter of stills without masks.
+
+#include "aggregator/stereo/background_difference.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+
+#include "shared/util/check.h"
+
+namespace silnet::aggregator {
+namespace {
+
+// A textured background with mild sensor noise.
+cv::Mat Background(int seed) {
+  cv::Mat image(120, 160, CV_8UC3);
+  cv::RNG rng(static_cast<uint64_t>(seed));
+  rng.fill(image, cv::RNG::UNIFORM, cv::Scalar::all(60), cv::Scalar::all(190));
+  return image;
+}
+
+cv::Mat WithNoise(const cv::Mat& image, int seed) {
+  cv::Mat noise(image.size(), CV_16SC3), out;
+  cv::RNG rng(static_cast<uint64_t>(seed));
+  rng.fill(noise, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(3));
+  image.convertTo(out, CV_16SC3);
+  out += noise;
+  out.convertTo(out, CV_8UC3);
+  return out;
+}
+
+// Over seeds: a subject on the background is found to within its outline; its shadow, the
+// background darkened to 60 %, is not taken for subject; noise leaves no specks.
+TEST(BackgroundDifferenceTest, FindsTheSubjectAndNotItsShadow) {
+  for (int seed = 1; seed <= 5; ++seed) {
+    const cv::Mat background = Background(seed);
+    cv::Mat still = background.clone();
+    const cv::Rect shadow(90, 70, 50, 30);
+    still(shadow).convertTo(still(shadow), CV_8UC3, 0.6);
+    const cv::Rect subject(30, 20, 50, 60);
+    still(subject).setTo(cv::Scalar(30, 40, 220));
+    const BackgroundDifference result =
+        SegmentAgainstBackground(WithNoise(still, 100 + seed), background);
+    cv::Mat expected = cv::Mat::zeros(still.size(), CV_8UC1);
+    expected(subject).setTo(255);
+    EXPECT_LE(cv::norm(result.mask, expected, cv::NORM_L1) / 255, 8) << "seed " << seed;
+    EXPECT_EQ(cv::countNonZero(result.mask(shadow)), 0) << "seed " << seed;
+    EXPECT_EQ(result.cleanup.blobs, 1) << "seed " << seed;
+  }
+}
+
+TEST(BackgroundDifferenceTest, RejectsImagesOfDifferentSizes) {
+  EXPECT_THROW(SegmentAgainstBackground(Background(1), Background(1)(cv::Rect(0, 0, 20, 20))),
+               InputError);
+}
+
+}  // namespace
+}  // namespace silnet::aggregator
