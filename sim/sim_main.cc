@@ -110,6 +110,10 @@ int main(int argc, char** argv) {
       ->add_option("--distortion", options.network.max_distortion,
                    "largest |k1| of radial distortion (0 = none)")
       ->capture_default_str();
+  generate
+      ->add_option("--principal-spread", options.network.principal_spread,
+                   "principal points up to this fraction of the image size off centre")
+      ->capture_default_str();
   generate->add_option("--noise", options.render.noise_sigma, "sensor noise sigma, DN")
       ->capture_default_str();
   generate->add_option("--subject", subject, "human, quadruped or statue")->capture_default_str();
