@@ -222,6 +222,9 @@ std::string PairwiseOptions::Validate() const {
   if (max_iterations < 100) return "at least 100 iterations";
   if (!synchronized && !(offset_max >= offset_min)) return "offset range is empty";
   if (agreeing < 1) return "agreeing must be at least 1";
+  if (!(local_support > 0.0 && local_support <= 1.0)) return "local_support must lie in (0, 1]";
+  if (give_up_iterations != 0 && give_up_iterations < 1000)
+    return "give_up_iterations must be 0 (never) or at least 1000";
   return {};
 }
 
@@ -354,13 +357,15 @@ PairwiseResult EstimatePair(const SilhouetteSequence& i, const SilhouetteSequenc
   };
   std::vector<Solution> solutions;
   bool fine_phase = !coarse_phase;
+  const double possible_local = 2.0 * static_cast<double>(local_frames.size());
   auto on_candidate = [&](const RansacCandidate<EpipolarModel, HypothesisScore>& candidate) {
     ++result.candidates_refined;
     const RefinedModel lo_model =
         RefineEpipolarModel(candidate.model, i, j, local_frames, local, &rng);
+    result.best_local_support =
+        std::max(result.best_local_support, static_cast<double>(lo_model.inliers) / possible_local);
     if (!lo_model.valid ||
-        static_cast<double>(lo_model.inliers) <
-            options.local_support * 2.0 * static_cast<double>(local_frames.size())) {
+        static_cast<double>(lo_model.inliers) < options.local_support * possible_local) {
       return result.candidates_refined >= options.max_local_optimisations;
     }
     const Eigen::Matrix3d f = lo_model.model.Fundamental();
@@ -403,6 +408,7 @@ PairwiseResult EstimatePair(const SilhouetteSequence& i, const SilhouetteSequenc
   };
   RansacLimits limits;
   limits.max_iterations = std::max<size_t>(1, budget);
+  limits.max_dry_rounds = options.give_up_iterations;
   limits.candidates = std::max<size_t>(
       options.max_local_optimisations,
       std::max<size_t>(options.min_candidates, static_cast<size_t>(std::ceil(2.0 * tau0))));
@@ -410,10 +416,20 @@ PairwiseResult EstimatePair(const SilhouetteSequence& i, const SilhouetteSequenc
   result.iterations += report.iterations;
   result.candidates = report.candidates.size();
   if (report.cancelled) return finish(PairStatus::kFailed, "cancelled");
+  if (report.dry && solutions.empty()) {
+    return finish(
+        PairStatus::kFailed,
+        fmt::format("gave up: no hypothesis passed the screen ({:.0f} px) in {} "
+                    "iterations in a row ({} iterations, {} screened)",
+                    screen, options.give_up_iterations, result.iterations, result.candidates));
+  }
   if (solutions.empty()) {
-    return finish(PairStatus::kFailed, "no hypothesis converged in " +
-                                           std::to_string(result.iterations) + " iterations (" +
-                                           std::to_string(result.candidates) + " screened)");
+    return finish(
+        PairStatus::kFailed,
+        fmt::format("no hypothesis converged in {} iterations ({} screened; the best "
+                    "local fit {:.0f} % of the frontier correspondences, {:.0f} % needed)",
+                    result.iterations, result.candidates, 100.0 * result.best_local_support,
+                    100.0 * options.local_support));
   }
   std::sort(solutions.begin(), solutions.end(), [](const Solution& a, const Solution& b) {
     return a.support != b.support ? a.support > b.support : a.refined.inliers > b.refined.inliers;

@@ -14,6 +14,8 @@
 //                thesis's strict tau0 leaves few candidates, while the refinement converges
 //                from much rougher ones; solutions are kept once three candidates reach them
 //                (Zhang's distance)
+//   giving up    a pair without a solution stops early when no hypothesis passes the screen
+//                for many rounds in a row (silhouettes that do not correspond in time)
 //   offset       unsynchronised pairs sample the offset too, coarse to fine (2.5): over a
 //                wide range hypotheses are verified on the slow keyframes (tolerant to an
 //                offset a few frames off); the first locally optimised solution fixes the
@@ -61,6 +63,10 @@ struct PairwiseOptions {
   size_t local_frames = 120;
   double local_support = 0.3;
   size_t max_local_optimisations = 300;
+  // Giving up on pairs that cannot converge: pairs that converge went at most about 25000
+  // sampling rounds without a hypothesis passing the screen (simulated rings and domes, the
+  // Utrecht capture); silhouettes that do not correspond in time, 35000 per hypothesis passing.
+  size_t give_up_iterations = 50000;  // rounds in a row without one: give up (0 = never)
   bool allow_warmup = false;
   double min_motion_px = 5.0;  // silhouettes moving less than this: too little motion
   uint64_t seed = 1;
@@ -105,6 +111,9 @@ struct PairwiseResult {
   size_t candidates = 0;
   size_t candidates_refined = 0;
   size_t candidates_agreeing = 0;
+  // The best local optimisation's inliers as a share of its possible frontier correspondences
+  // (a solution needs PairwiseOptions::local_support).
+  double best_local_support = 0.0;
   double seconds = 0.0;
   std::vector<TimedMatch> inlier_matches;
   // Other distinct solutions that explain nearly as much (ambiguous pairs), best first.

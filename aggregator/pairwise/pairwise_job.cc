@@ -174,7 +174,8 @@ void WritePairsYaml(const std::filesystem::path& path, const PairwiseJobResult& 
     fs << "offset" << p.offset << "offset_sigma" << p.offset_sigma << "inliers"
        << static_cast<int>(p.inliers);
     fs << "residual" << p.residual_rms << "spread_score" << p.spread_score;
-    fs << "epipole_inside_fraction" << p.epipole_inside_fraction << "tau0" << p.tau0;
+    fs << "epipole_inside_fraction" << p.epipole_inside_fraction << "tau0" << p.tau0
+       << "best_local_support" << p.best_local_support;
     fs << "iterations" << static_cast<double>(p.iterations) << "candidates"
        << static_cast<int>(p.candidates);
     fs << "agreeing" << static_cast<int>(p.candidates_agreeing) << "seconds" << p.seconds;
@@ -222,6 +223,7 @@ std::vector<PairwiseResult> ReadPairsYaml(const std::filesystem::path& path,
     p.Adopt(ReadCandidate(node, path, name, csv(name + ".csv")));
     p.spread_score = node["spread_score"];
     p.epipole_inside_fraction = node["epipole_inside_fraction"];
+    p.best_local_support = node["best_local_support"];
     int k = 0;
     for (const cv::FileNode& a : node["alternatives"])
       p.alternatives.push_back(ReadCandidate(a, path, name, csv(AlternativeCsvName(name, k++))));

@@ -37,7 +37,8 @@ PairwiseJobResult EstimateAllPairs(const std::vector<SilhouetteSequence>& sequen
                                    const PairwiseJobOptions& options, Progress* progress = nullptr);
 
 // Writes pairs.yaml: per pair i, j, status, reason, F (x_j^T F x_i = 0), epipoles, offset,
-// offset_sigma, inliers, residual, spread score, timing. Throws InputError if unwritable.
+// offset_sigma, inliers, residual, spread score, best local support, timing. Throws
+// InputError if unwritable.
 void WritePairsYaml(const std::filesystem::path& path, const PairwiseJobResult& result);
 
 // Reads pairs.yaml (the inlier correspondences are read from `matches_dir` when given).
