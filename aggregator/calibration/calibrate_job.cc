@@ -151,6 +151,13 @@ void WriteCalibrationSummary(const std::filesystem::path& path, const CalibrateJ
     if (p.placed) {
       fs << "added_by" << p.added_by << "observations" << static_cast<int>(p.observations)
          << "rms_px" << p.rms_px << "median_px" << p.median_px;
+      if (p.uncertainty.estimated) {
+        const CameraUncertainty& u = p.uncertainty;
+        fs << "uncertainty"
+           << "{"
+           << "rotation_deg" << u.rotation_deg << "center_rel" << u.center_rel << "focal_rel"
+           << u.focal_rel << "principal_px" << u.principal_px << "}";
+      }
     } else {
       fs << "reason" << p.reason;
     }

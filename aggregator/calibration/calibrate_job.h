@@ -3,7 +3,8 @@
 // -> calibration in one go. Writes into OUT:
 //   pairs.yaml, matches/        the pairwise stage (as `pairs` writes them), unless reused
 //   calibration.yaml            the calibrated cameras (DESIGN.md "Files")
-//   calibration_summary.yaml    per camera placed or why not; synchronisation edges; stages;
+//   calibration_summary.yaml    per camera placed (with its uncertainty) or why not;
+//                               synchronisation edges; stages;
 //                               pairwise checks; ground-truth errors when known
 //   colmap/                     cameras.txt, images.txt, points3D.txt
 //   report/                     report.html with plots/

@@ -14,6 +14,7 @@ std::string CalibrationGates::Validate() const {
   if (!(max_aspect_error >= 0.0 && max_principal_offset > 0.0 && max_abs_k1 > 0.0))
     return "the aspect, principal point and distortion gates must be positive";
   if (!(min_in_front >= 0.0 && min_in_front <= 1.0)) return "the in-front share must lie in [0, 1]";
+  if (!(max_rotation_sigma_deg >= 0.0)) return "the rotation uncertainty gate must not be negative";
   return "";
 }
 
@@ -43,6 +44,17 @@ std::string GateFailure(const CameraModel& camera, double in_front, const Calibr
   return "";
 }
 
+std::string UncertaintyFailure(const CameraUncertainty& uncertainty,
+                               const CalibrationGates& gates) {
+  if (!uncertainty.estimated || gates.max_rotation_sigma_deg <= 0.0) return "";
+  if (uncertainty.rotation_deg <= gates.max_rotation_sigma_deg) return "";
+  return fmt::format(
+      "its rotation is uncertain by {:.2f} deg (allowed {:.2f}; centre {:.2f} % of the rig, "
+      "focal length {:.2f} %): too few or too poorly spread frontier points hold it",
+      uncertainty.rotation_deg, gates.max_rotation_sigma_deg, 100.0 * uncertainty.center_rel,
+      100.0 * uncertainty.focal_rel);
+}
+
 size_t ApplyCalibrationGates(const CalibrationGates& gates, NetworkCalibration* calibration) {
   const size_t n = calibration->cameras.size();
   std::vector<size_t> front(n, 0), total(n, 0);
@@ -60,7 +72,8 @@ size_t ApplyCalibrationGates(const CalibrationGates& gates, NetworkCalibration* 
     if (!p.placed) continue;
     const double in_front =
         total[c] > 0 ? static_cast<double>(front[c]) / static_cast<double>(total[c]) : 0.0;
-    const std::string why = GateFailure(calibration->cameras[c], in_front, gates);
+    std::string why = GateFailure(calibration->cameras[c], in_front, gates);
+    if (why.empty()) why = UncertaintyFailure(p.uncertainty, gates);
     if (why.empty()) continue;
     spdlog::warn("{} fails a sanity check and is not calibrated: {}", calibration->cameras[c].id,
                  why);

@@ -32,6 +32,18 @@ struct FrontierPoint {
   bool inlier = true;  // false if the robust loss discarded it (error above the cut-off)
 };
 
+// How well the final Euclidean bundle adjustment determines one camera (camera_uncertainty.h):
+// standard deviations from the adjustment's covariance, each the root of the summed variances
+// of its components, i.e. the expected size of the error vector. Poses are taken in the gauge
+// that aligns the camera centres best (as a comparison with ground truth aligns them).
+struct CameraUncertainty {
+  bool estimated = false;     // false: the covariance could not be computed
+  double rotation_deg = 0.0;  // rotation, degrees
+  double center_rel = 0.0;    // centre, relative to the rig diameter
+  double focal_rel = 0.0;     // focal length, relative to itself
+  double principal_px = 0.0;  // principal point, pixels
+};
+
 // What happened to one camera.
 struct CameraPlacement {
   bool placed = false;
@@ -40,6 +52,7 @@ struct CameraPlacement {
   size_t observations = 0;  // frontier observations in the final bundle adjustment
   double rms_px = 0.0;      // reprojection error over its inlier observations
   double median_px = 0.0;
+  CameraUncertainty uncertainty;  // from the final bundle adjustment, when placed
 };
 
 // A pairwise estimate checked against the final cameras (closing the loop).

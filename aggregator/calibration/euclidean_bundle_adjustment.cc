@@ -147,14 +147,24 @@ bool SquarePixels(const IntrinsicsModel& model, const MetricScene& scene, size_t
   return model.square_pixels && !model.fixed && !scene.Held(c);
 }
 
-SolveOutcome Solve(MetricScene* scene, const IntrinsicsModel& model, const BundleOptions& options) {
+}  // namespace
+
+EuclideanProblem::EuclideanProblem() = default;
+EuclideanProblem::~EuclideanProblem() = default;
+
+std::unique_ptr<EuclideanProblem> BuildEuclideanProblem(MetricScene* scene,
+                                                        const IntrinsicsModel& model,
+                                                        const BundleOptions& options) {
   const size_t n = scene->cameras.size();
   bool any_held = false;
   for (size_t c = 0; c < n; ++c)
     any_held = any_held || (scene->present[c] && scene->Held(c));
   const auto [anchor, scale] = any_held ? std::pair{n, n} : AnchorGauge(scene);
-  std::vector<IntrinsicsBlock> intrinsics(n);
-  std::vector<PoseBlock> poses(n);
+  auto built = std::make_unique<EuclideanProblem>();
+  std::vector<IntrinsicsBlock>& intrinsics = built->intrinsics;
+  std::vector<PoseBlock>& poses = built->poses;
+  intrinsics.resize(n);
+  poses.resize(n);
   for (size_t c = 0; c < n; ++c) {
     if (!scene->present[c]) continue;
     intrinsics[c] = ToBlock(scene->cameras[c]);
@@ -162,15 +172,17 @@ SolveOutcome Solve(MetricScene* scene, const IntrinsicsModel& model, const Bundl
   }
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  ceres::HuberLoss loss(options.loss_px);
+  built->problem = std::make_unique<ceres::Problem>(problem_options);
+  built->loss = std::make_unique<ceres::HuberLoss>(options.loss_px);
+  ceres::Problem& problem = *built->problem;
+  ceres::LossFunction* loss = built->loss.get();
   for (size_t k = 0; k < scene->tracks.size(); ++k) {
     if (!scene->inlier[k]) continue;
     const TwoViewTrack& t = scene->tracks[k];
     for (const auto& [camera, x] : {std::pair{t.camera_a, t.x_a}, std::pair{t.camera_b, t.x_b}}) {
       auto* cost = new ceres::AutoDiffCostFunction<ReprojectionResidual, 2, kIntrinsics, kPose, 3>(
           new ReprojectionResidual{x, SquarePixels(model, *scene, camera)});
-      problem.AddResidualBlock(cost, &loss, intrinsics[camera].data(), poses[camera].data(),
+      problem.AddResidualBlock(cost, loss, intrinsics[camera].data(), poses[camera].data(),
                                scene->points[k].data());
     }
   }
@@ -203,6 +215,15 @@ SolveOutcome Solve(MetricScene* scene, const IntrinsicsModel& model, const Bundl
       problem.SetManifold(intrinsics[c].data(), new ceres::SubsetManifold(kIntrinsics, fixed));
     }
   }
+  return built;
+}
+
+namespace {
+
+SolveOutcome Solve(MetricScene* scene, const IntrinsicsModel& model, const BundleOptions& options) {
+  const size_t n = scene->cameras.size();
+  const std::unique_ptr<EuclideanProblem> built = BuildEuclideanProblem(scene, model, options);
+  ceres::Problem& problem = *built->problem;
   SolveOutcome outcome;
   if (problem.NumResidualBlocks() == 0) return outcome;
   ceres::Solver::Options solver;
@@ -215,7 +236,8 @@ SolveOutcome Solve(MetricScene* scene, const IntrinsicsModel& model, const Bundl
   spdlog::debug("Euclidean bundle adjustment: {}", summary.BriefReport());
   for (size_t c = 0; c < n; ++c) {
     if (scene->present[c])
-      FromBlocks(intrinsics[c], poses[c], SquarePixels(model, *scene, c), &scene->cameras[c]);
+      FromBlocks(built->intrinsics[c], built->poses[c], SquarePixels(model, *scene, c),
+                 &scene->cameras[c]);
   }
   outcome.initial_cost = summary.initial_cost;
   outcome.iterations = static_cast<int>(summary.iterations.size());

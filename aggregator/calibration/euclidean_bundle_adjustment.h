@@ -6,11 +6,17 @@
 // complement, both cores) on the reprojection error in raw pixels under a Huber loss.
 // Observations far off after a first solve are set aside and the problem solved again.
 
+#include <memory>
 #include <vector>
 
 #include "aggregator/calibration/projective_bundle_adjustment.h"
 #include "aggregator/calibration/two_view_tracks.h"
 #include "shared/geometry/camera_model.h"
+
+namespace ceres {
+class LossFunction;
+class Problem;
+}  // namespace ceres
 
 namespace silnet::aggregator {
 
@@ -49,6 +55,26 @@ struct MetricScene {
   // Reprojection error of view 0 (camera a) or 1 (camera b) of a track, pixels.
   double ViewError(size_t track, int view) const;
 };
+
+// The adjustment's least-squares problem over a scene, for solving it or for its covariance
+// (camera_uncertainty.h): per present camera an intrinsics block (fx, fy, cx, cy, k1, k2, p1,
+// p2, k3; pixels) and a pose block (angle-axis, t: x_cam = R·X + t), per inlier track its
+// point in the scene's `points` (so the scene must outlive the problem).
+struct EuclideanProblem {
+  EuclideanProblem();
+  ~EuclideanProblem();
+  std::vector<Eigen::Matrix<double, 9, 1>> intrinsics;  // parallel to the scene's cameras
+  std::vector<Eigen::Matrix<double, 6, 1>> poses;       // parallel to the scene's cameras
+  std::unique_ptr<ceres::LossFunction> loss;            // the Huber loss of every observation
+  std::unique_ptr<ceres::Problem> problem;
+};
+
+// Builds the problem on `scene` as AdjustEuclidean solves it. Without held cameras the gauge
+// is anchored first: the world frame moves onto the first observed camera (its pose is held)
+// and the observed camera furthest from it keeps its distance (its translation on a sphere).
+std::unique_ptr<EuclideanProblem> BuildEuclideanProblem(MetricScene* scene,
+                                                        const IntrinsicsModel& model,
+                                                        const BundleOptions& options);
 
 // Refines `scene` in place; tracks whose error exceeds max(outlier_px, 4 robust sigmas) after
 // the first solve are marked outliers and left out of the second.

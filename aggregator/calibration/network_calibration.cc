@@ -8,6 +8,7 @@
 
 #include "aggregator/calibration/ambiguity_resolution.h"
 #include "aggregator/calibration/calibration_gates.h"
+#include "aggregator/calibration/camera_uncertainty.h"
 #include "aggregator/calibration/epipolar_consistency.h"
 #include "aggregator/calibration/focal_search.h"
 #include "aggregator/calibration/frontier_rematching.h"
@@ -251,6 +252,58 @@ void FillResult(const MetricScene& scene, const SyncResult& sync, NetworkCalibra
   out->median_px = UpperMedian(all);
 }
 
+// Every calibrated camera's uncertainty from the final adjustment, logged and recorded.
+// Empty if every present camera's principal point, estimated with `model`'s other settings
+// at `scene`'s solution, has a standard deviation within `max_sigma_px`; otherwise why not.
+std::string FreePrincipalPoints(const MetricScene& scene, const IntrinsicsModel& model,
+                                const BundleOptions& bundle, double max_sigma_px) {
+  const std::vector<CameraUncertainty> uncertainty =
+      EstimateCameraUncertainty(scene, model, bundle);
+  for (size_t c = 0; c < scene.cameras.size(); ++c) {
+    if (!scene.present[c]) continue;
+    if (!uncertainty[c].estimated)
+      return fmt::format("held at the image centres ({}: uncertainty not estimated)",
+                         scene.cameras[c].id);
+    if (uncertainty[c].principal_px > max_sigma_px) {
+      return fmt::format(
+          "held at the image centres: the frontier points leave {}'s uncertain by {:.1f} px "
+          "(free above {:.1f} px)",
+          scene.cameras[c].id, uncertainty[c].principal_px, max_sigma_px);
+    }
+  }
+  return "";
+}
+
+void AddUncertainty(const MetricScene& scene, const IntrinsicsModel& model,
+                    const BundleOptions& bundle, NetworkCalibration* out) {
+  const auto start = Clock::now();
+  const std::vector<CameraUncertainty> uncertainty =
+      EstimateCameraUncertainty(scene, model, bundle);
+  std::vector<double> rotations;
+  for (size_t c = 0; c < scene.cameras.size(); ++c) {
+    if (!scene.present[c]) continue;
+    const CameraUncertainty& u = uncertainty[c];
+    out->placement[c].uncertainty = u;
+    if (!u.estimated) {
+      spdlog::info("{}: uncertainty not estimated", out->cameras[c].id);
+      continue;
+    }
+    rotations.push_back(u.rotation_deg);
+    spdlog::info(
+        "{}: standard deviation of rotation {:.3f} deg, centre {:.3f} % of the rig, focal "
+        "length {:.3f} %, principal point {:.2f} px",
+        out->cameras[c].id, u.rotation_deg, 100.0 * u.center_rel, 100.0 * u.focal_rel,
+        u.principal_px);
+  }
+  const std::string detail =
+      rotations.empty()
+          ? std::string("not estimated")
+          : fmt::format("{} cameras, rotation standard deviation median {:.3f} deg, max {:.3f} deg",
+                        rotations.size(), UpperMedian(rotations),
+                        *std::max_element(rotations.begin(), rotations.end()));
+  out->stages.push_back({"camera uncertainty", 0.0, SecondsSince(start), detail});
+}
+
 }  // namespace
 
 std::string CalibrationOptions::Validate() const {
@@ -258,6 +311,8 @@ std::string CalibrationOptions::Validate() const {
     return "radial distortion terms must be 0, 1 or 2";
   if (!(rig_radius > 0.0)) return "the rig radius must be positive";
   if (rematch_rounds < 0) return "re-matching rounds must not be negative";
+  if (!(free_principal_max_sigma_px >= 0.0))
+    return "free_principal_max_sigma_px must not be negative";
   if (intrinsics.principal_point_sigma_px < 0.0 || !(intrinsics.observation_sigma_px > 0.0))
     return "the principal point prior needs a non-negative sigma and a positive observation sigma";
   if (!(bundle.loss_px > 0.0) || bundle.max_iterations < 1)
@@ -434,6 +489,11 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
   if (progress)
     progress->Restart("bundle adjustment", 1 + static_cast<size_t>(refine_options.rematch_rounds));
   MetricRefinement refine(refine_options, &out);
+  // The uncertainty is that of the principal points free unless the user fixed them: held at
+  // the image centres after a focal length search, they are an assumption, not a measurement.
+  IntrinsicsModel uncertainty_model = refine_options.intrinsics;
+  uncertainty_model.fixed = options.known_intrinsics;
+  uncertainty_model.fix_principal_point = options.intrinsics.fix_principal_point;
   refine.Adjust(graph, &*scene, "Euclidean bundle adjustment");
   if (progress) progress->Advance();
   for (size_t p = 0; p < pairs.size(); ++p) {
@@ -444,6 +504,19 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
   if (sequences != nullptr) {
     for (int round = 0;
          round < refine_options.rematch_rounds && !(progress && progress->cancelled()); ++round) {
+      // After a focal length search the principal points were held at the image centres
+      // while the cameras settled; the last round estimates them where the data hold them
+      // (refine holds a reference to refine_options).
+      if (focal_searched && round + 1 == refine_options.rematch_rounds &&
+          !options.intrinsics.fix_principal_point) {
+        const std::string decision = FreePrincipalPoints(
+            *scene, uncertainty_model, refine_options.bundle, options.free_principal_max_sigma_px);
+        refine_options.intrinsics.fix_principal_point = !decision.empty();
+        out.stages.push_back({"principal points", 0.0, 0.0,
+                              decision.empty() ? "estimated in the last round" : decision});
+        spdlog::info("principal points: {}",
+                     decision.empty() ? "estimated in the last round" : decision);
+      }
       start = Clock::now();
       std::vector<SilhouetteSequence> undistorted(n);
       ParallelFor(n, 0, [&](size_t c) {
@@ -466,6 +539,7 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
   }
   NormalizeGauge(&*scene, options.rig_radius);
   FillResult(*scene, out.sync, &out);
+  AddUncertainty(*scene, uncertainty_model, refine_options.bundle, &out);
   RejectCamerasWithoutMotion(&out);
   if (const size_t rejected = ApplyCalibrationGates(options.gates, &out); rejected > 0) {
     out.stages.push_back({"sanity gates", 0.0, 0.0,

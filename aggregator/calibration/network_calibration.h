@@ -37,14 +37,17 @@ struct CalibrationOptions {
   AmbiguityOptions ambiguity;     // picking among an ambiguous pair's solutions
   ProjectiveOptions projective;
   KnownIntrinsicsOptions known;
-  GlobalStartOptions global;  // the start with known intrinsics (and after a focal search)
-  FocalSearchOptions focal;   // when self-calibration cannot start the metric stage
-  CalibrationGates gates;     // every calibrated camera must pass these
+  GlobalStartOptions global;     // the start with known intrinsics (and after a focal search)
+  FocalSearchOptions focal;      // when self-calibration cannot start the metric stage
+  CalibrationGates gates;        // every calibrated camera must pass these
   MotionCoverageOptions motion;  // and its silhouettes must have moved this much
   SyncOptions sync;
   BundleOptions bundle;                 // the Euclidean adjustments
   size_t final_tracks_per_link = 1500;  // correspondences per pair in the metric stages
   int rematch_rounds = 1;               // re-matching rounds when silhouettes are given
+  // After a focal length search (principal points at the image centres) the last re-matching
+  // round frees the principal points if their standard deviation, free, is within this (px).
+  double free_principal_max_sigma_px = 5.0;
   double rig_radius = 1.0;    // world scale: mean distance of the cameras from their centroid
   double corrected_px = 1.0;  // pairwise estimates whose matches lie further off are "corrected"
 

@@ -54,6 +54,13 @@ void PrintResult(const CalibrateJobResult& result, const std::string& out) {
     std::printf("  %-8s f %8.2f  pp (%7.2f, %7.2f)  k1 %+.4f  offset %+8.3f +- %.3f  %.3f px  %s\n",
                 cam.id.c_str(), cam.K(0, 0), cam.K(0, 2), cam.K(1, 2), cam.dist[0], cam.time_offset,
                 c.sync.sigmas[k], p.rms_px, p.added_by.c_str());
+    const CameraUncertainty& u = p.uncertainty;
+    if (u.estimated) {
+      std::printf(
+          "  %-8s standard deviation: rotation %.3f deg, centre %.3f %% of the rig, focal %.3f "
+          "%%, pp %.2f px\n",
+          cam.id.c_str(), u.rotation_deg, 100 * u.center_rel, 100 * u.focal_rel, u.principal_px);
+    }
   }
   size_t corrected = 0;
   for (const PairCheck& p : c.pairs)

@@ -92,7 +92,9 @@ std::string StagesSection(const NetworkCalibration& calibration) {
 
 std::string CamerasSection(const NetworkCalibration& calibration) {
   HtmlTable table({"id", "placed", "added by", "fx", "fy", "principal point", "k1", "k2", "centre",
-                   "time offset (frames)", "observations", "rms (px)", "median (px)"});
+                   "time offset (frames)", "observations", "rms (px)", "median (px)",
+                   "rotation sigma (deg)", "centre sigma (% rig)", "focal sigma (%)",
+                   "pp sigma (px)"});
   for (size_t i = 0; i < calibration.cameras.size(); ++i) {
     const CameraModel& c = calibration.cameras[i];
     const CameraPlacement placement =
@@ -101,17 +103,22 @@ std::string CamerasSection(const NetworkCalibration& calibration) {
       table.AddRow(
           {c.id, "no: " + (placement.reason.empty() ? "no reason given" : placement.reason), kNone,
            kNone, kNone, kNone, kNone, kNone, kNone, TimeOffset(calibration, i), kNone, kNone,
-           kNone},
+           kNone, kNone, kNone, kNone, kNone},
           "bad");
       continue;
     }
     const Eigen::Vector3d centre = c.Center();
+    const CameraUncertainty& u = placement.uncertainty;
     table.AddRow({c.id, "yes", placement.added_by, Fixed(c.K(0, 0), 1), Fixed(c.K(1, 1), 1),
                   fmt::format("({:.1f}, {:.1f})", c.K(0, 2), c.K(1, 2)), Fixed(c.dist[0], 4),
                   Fixed(c.dist[1], 4),
                   fmt::format("({:.3f}, {:.3f}, {:.3f})", centre.x(), centre.y(), centre.z()),
                   TimeOffset(calibration, i), std::to_string(placement.observations),
-                  Fixed(placement.rms_px, 3), Fixed(placement.median_px, 3)});
+                  Fixed(placement.rms_px, 3), Fixed(placement.median_px, 3),
+                  u.estimated ? Fixed(u.rotation_deg, 3) : kNone,
+                  u.estimated ? Fixed(100.0 * u.center_rel, 3) : kNone,
+                  u.estimated ? Fixed(100.0 * u.focal_rel, 3) : kNone,
+                  u.estimated ? Fixed(u.principal_px, 2) : kNone});
   }
   return table.ToHtml("no cameras");
 }

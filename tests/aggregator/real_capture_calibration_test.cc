@@ -69,6 +69,11 @@ CalibrateJobResult CalibrateUtrecht(bool with_intrinsics, const testing::TempDir
     EXPECT_GT(m.image_share, 0.3) << m.camera_id;
   }
   if (c.PlacedCount() != 4) return result;
+  for (size_t k = 0; k < c.cameras.size() && result.errors; ++k) {
+    const CameraUncertainty& u = c.placement[k].uncertainty;
+    std::printf("  %s rotation off the capture's by %.3f deg; its standard deviation %.3f deg\n",
+                c.cameras[k].id.c_str(), result.errors->cameras[k].rotation_deg, u.rotation_deg);
+  }
 
   SequenceLoadOptions load;
   load.mask_video = kMaskVideo;
