@@ -123,6 +123,10 @@ std::vector<CameraModel> MakeCameraNetwork(const CameraNetworkOptions& o) {
   }
   if (!(o.fps > 0.0)) throw InputError("fps must be positive");
   if (!(o.radius > 0.5)) throw InputError("rig radius must exceed 0.5 m");
+  if (!(o.target_height >= 0.0 && o.target_height < 10.0)) {
+    throw InputError("target height must lie between 0 and 10 m");
+  }
+  if (!(o.aim_jitter >= 0.0 && o.aim_jitter <= 1.0)) throw InputError("aim jitter must be 0..1 m");
   if (o.max_offset < 0.0 || o.fps_spread < 0.0 || o.fps_spread >= 0.5 || o.max_distortion < 0.0 ||
       o.max_distortion > 0.3) {
     throw InputError("offset, fps spread or distortion out of range");
@@ -130,7 +134,7 @@ std::vector<CameraModel> MakeCameraNetwork(const CameraNetworkOptions& o) {
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> jitter(-1.0, 1.0);
   const std::vector<Placement> placements = PlaceCameras(o, rng);
-  const Eigen::Vector3d target(0.0, 0.0, 0.95);
+  const Eigen::Vector3d target(0.0, 0.0, o.target_height);
   const double nominal_focal = 0.5 * o.width / std::tan(0.5 * o.horizontal_fov_deg * kDegree);
   std::vector<CameraModel> cameras;
   for (int i = 0; i < o.cameras; ++i) {
@@ -151,8 +155,9 @@ std::vector<CameraModel> MakeCameraNetwork(const CameraNetworkOptions& o) {
         target + radius * Eigen::Vector3d(std::cos(p.elevation) * std::cos(p.azimuth),
                                           std::cos(p.elevation) * std::sin(p.azimuth),
                                           std::sin(p.elevation));
-    const Eigen::Vector3d aim =
-        target + Eigen::Vector3d(0.25 * jitter(rng), 0.25 * jitter(rng), 0.15 * jitter(rng));
+    // Drawn z, y, x: the order in which earlier releases drew them, so seeds keep their cameras.
+    const double az = jitter(rng), ay = jitter(rng), ax = jitter(rng);
+    const Eigen::Vector3d aim = target + o.aim_jitter * Eigen::Vector3d(ax, ay, 0.6 * az);
     const Eigen::Matrix3d look = LookAtRotation(center, aim, Eigen::Vector3d::UnitZ());
     const double roll = 2.0 * kDegree * jitter(rng);
     Eigen::Matrix3d roll_matrix;

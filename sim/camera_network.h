@@ -28,6 +28,8 @@ struct CameraNetworkOptions {
   int width = 640;
   int height = 480;
   double radius = 4.5;               // metres from the centre of the capture area
+  double target_height = 0.95;       // metres; the cameras aim at (0, 0, target_height)
+  double aim_jitter = 0.25;          // aim points uniform within +-this (m), +-0.6x vertically
   double horizontal_fov_deg = 50.0;  // nominal field of view
   double focal_spread = 0.08;        // relative spread of focal lengths (uniform +-)
   double principal_spread = 0.02;    // principal point offset, fraction of the image size

@@ -1,5 +1,6 @@
 // silnet-sim: simulated camera networks with ground truth.
 //   silnet-sim generate -o DIR [options]   write a dataset folder (masks, frames, ground truth)
+//   silnet-sim stills -o DIR [options]     stereo stills of a statue with the true surface
 //   silnet-sim run-nodes DIR [options]     a live silnet-node per camera of the dataset
 
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 #include "shared/util/log.h"
 #include "sim/dataset_generator.h"
 #include "sim/node_launcher.h"
+#include "sim/stills_generator.h"
 
 namespace {
 
@@ -38,7 +40,8 @@ int RunGenerate(const silnet::sim::SimulationOptions& base, const std::string& o
   options.network.seed = seed;
   options.scene.seed = seed;
   options.render.seed = seed;
-  if (options.scene.subject == silnet::sim::SubjectKind::kStatue) {
+  if (options.scene.subject == silnet::sim::SubjectKind::kStatue ||
+      options.scene.subject == silnet::sim::SubjectKind::kStillsStatue) {
     options.scene.walk_radius = 0.0;
   }
   const size_t tasks =
@@ -58,6 +61,29 @@ int RunGenerate(const silnet::sim::SimulationOptions& base, const std::string& o
                 c.id.c_str(), c.K(0, 0), c.Center().x(), c.Center().y(), c.Center().z(), c.fps,
                 c.time_offset);
   }
+  return 0;
+}
+
+int RunStills(silnet::sim::StillsOptions options, const std::string& output,
+              const std::string& size, const std::string& layout) {
+  std::tie(options.network.width, options.network.height) = ParseSize(size);
+  options.network.layout = silnet::sim::ParseRigLayout(layout);
+  silnet::Progress progress("stills", static_cast<size_t>(options.network.cameras),
+                            silnet::ConsoleProgressPrinter(), std::chrono::seconds(2));
+  spdlog::info("rendering stills of the statue from {} cameras ({}x{}, {} layout, seed {}) into {}",
+               options.network.cameras, options.network.width, options.network.height, layout,
+               options.seed, output);
+  const auto summary = silnet::sim::GenerateStills(options, output, &progress);
+  std::printf("wrote %zu images and %zu surface points (%.1f MB) for %zu cameras in %.1f s\n",
+              summary.images_written, summary.surface_points,
+              static_cast<double>(summary.bytes_written) / 1e6, summary.cameras.size(),
+              summary.seconds);
+  std::printf("cameras at %.2f m; pixel footprint at the statue %.2f mm; surface spacing %.2f mm\n",
+              summary.radius, 1e3 * summary.footprint, 1e3 * summary.surface_spacing);
+  std::printf("stills:       %s/<camera>/stills/000000.png, masks/000000.png\n", output.c_str());
+  std::printf("calibration:  %s/calibration.yaml\n", output.c_str());
+  std::printf("ground truth: %s/ground_truth.yaml, %s/gt_surface.ply\n", output.c_str(),
+              output.c_str());
   return 0;
 }
 
@@ -116,7 +142,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   generate->add_option("--noise", options.render.noise_sigma, "sensor noise sigma, DN")
       ->capture_default_str();
-  generate->add_option("--subject", subject, "human, quadruped or statue")->capture_default_str();
+  generate->add_option("--subject", subject, "human, quadruped, statue or stills-statue")
+      ->capture_default_str();
   generate->add_option("--subjects", options.scene.count, "number of subjects")
       ->capture_default_str();
   generate
@@ -136,6 +163,45 @@ int main(int argc, char** argv) {
   generate->add_option("--move-camera", moves,
                        "knock a camera out of place: cam03@560:2.5[:0.05] pans cam03 by 2.5 deg "
                        "at frame 560 (and shifts it 0.05 m sideways); repeatable");
+
+  silnet::sim::StillsOptions stills_options;
+  std::string stills_output, stills_size = "640x480", stills_layout = "ring";
+  CLI::App* stills = app.add_subcommand(
+      "stills", "render stereo stills of a statue with ground truth (the true surface)");
+  stills->add_option("-o,--out", stills_output, "output folder")->required();
+  stills->add_option("--cameras", stills_options.network.cameras, "number of cameras")
+      ->capture_default_str();
+  stills->add_option("--layout", stills_layout, "ring or dome")->capture_default_str();
+  stills->add_option("--size", stills_size, "image size WxH")->capture_default_str();
+  stills
+      ->add_option("--fov", stills_options.network.horizontal_fov_deg,
+                   "nominal horizontal field of view, degrees")
+      ->capture_default_str();
+  stills
+      ->add_option("--radius", stills_options.radius,
+                   "camera distance from the statue, m (0 = from --fill)")
+      ->capture_default_str();
+  stills
+      ->add_option("--fill", stills_options.fill,
+                   "share of the image height the statue fills (sets the distance)")
+      ->capture_default_str();
+  stills
+      ->add_option("--distortion", stills_options.network.max_distortion,
+                   "largest |k1| of radial distortion (0 = none)")
+      ->capture_default_str();
+  stills->add_option("--noise", stills_options.render.noise_sigma, "sensor noise sigma, DN")
+      ->capture_default_str();
+  stills
+      ->add_option("--spacing", stills_options.surface_spacing,
+                   "gt_surface.ply point spacing, m (0 = half the pixel footprint)")
+      ->capture_default_str();
+  stills->add_option("--seed", stills_options.seed, "random seed (same seed, same bytes)")
+      ->capture_default_str();
+  stills->add_option("--threads", stills_options.threads, "render threads (0 = all cores)")
+      ->capture_default_str();
+  stills->add_flag("--backgrounds", stills_options.write_backgrounds,
+                   "also write <camera>/background.png, the empty room");
+  stills->add_flag("--force", stills_options.overwrite, "write into a non-empty folder");
 
   silnet::sim::NodeLaunchOptions nodes;
   std::string node_binary;
@@ -167,6 +233,11 @@ int main(int argc, char** argv) {
     for (const std::string& m : moves)
       options.moves.push_back(silnet::sim::ParseCameraMove(m, options.network.cameras));
     if (generate->parsed()) return RunGenerate(options, output, size, layout, subject, seed);
+    if (stills->parsed()) {
+      if (stills_layout != "ring" && stills_layout != "dome")
+        throw InputError("stills take a ring or a dome of cameras, not '" + stills_layout + "'");
+      return RunStills(stills_options, stills_output, stills_size, stills_layout);
+    }
     if (run_nodes->parsed()) {
       nodes.node_binary =
           node_binary.empty() ? DefaultNodeBinary() : std::filesystem::path(node_binary);

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace silnet::sim {
 namespace {
@@ -70,6 +71,25 @@ Eigen::Vector3d Primitive::BoundingCenter() const {
 double Primitive::BoundingRadius() const {
   if (kind == PrimitiveKind::kCapsule) return 0.5 * (b - a).norm() + radius;
   return radii.maxCoeff();
+}
+
+Eigen::Vector3d Primitive::HalfExtents() const {
+  if (kind == PrimitiveKind::kCapsule) {
+    return 0.5 * (b - a).cwiseAbs() + Eigen::Vector3d::Constant(radius);
+  }
+  const Eigen::Matrix3d scaled = axes * radii.asDiagonal();
+  return scaled.rowwise().norm();
+}
+
+double Primitive::SurfaceArea() const {
+  if (kind == PrimitiveKind::kCapsule) {
+    return 2.0 * std::numbers::pi * radius * (b - a).norm() +
+           4.0 * std::numbers::pi * radius * radius;
+  }
+  constexpr double p = 1.6075;
+  const double ap = std::pow(radii.x(), p), bp = std::pow(radii.y(), p),
+               cp = std::pow(radii.z(), p);
+  return 4.0 * std::numbers::pi * std::pow((ap * bp + ap * cp + bp * cp) / 3.0, 1.0 / p);
 }
 
 bool Primitive::Contains(const Eigen::Vector3d& point) const {

@@ -38,6 +38,10 @@ struct Primitive {
   // Centre and radius of a sphere containing the solid.
   Eigen::Vector3d BoundingCenter() const;
   double BoundingRadius() const;
+  // Half sizes of the smallest axis-aligned box around the solid, centred on BoundingCenter().
+  Eigen::Vector3d HalfExtents() const;
+  // Surface area, m^2 (ellipsoids by Thomsen's approximation, within about 1 %).
+  double SurfaceArea() const;
   // True if the point lies inside or on the solid.
   bool Contains(const Eigen::Vector3d& point) const;
   // Texture-frame coordinates of a point (relative to the frame origin, in local axes).

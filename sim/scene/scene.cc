@@ -6,6 +6,7 @@
 #include "shared/util/check.h"
 #include "sim/scene/human_subject.h"
 #include "sim/scene/quadruped_subject.h"
+#include "sim/scene/stills_statue.h"
 
 namespace silnet::sim {
 
@@ -13,7 +14,9 @@ SubjectKind ParseSubjectKind(const std::string& name) {
   if (name == "human") return SubjectKind::kHuman;
   if (name == "quadruped") return SubjectKind::kQuadruped;
   if (name == "statue") return SubjectKind::kStatue;
-  throw InputError("unknown subject '" + name + "' (use human, quadruped or statue)");
+  if (name == "stills-statue") return SubjectKind::kStillsStatue;
+  throw InputError("unknown subject '" + name +
+                   "' (use human, quadruped, statue or stills-statue)");
 }
 
 std::string ToString(SubjectKind kind) {
@@ -24,6 +27,8 @@ std::string ToString(SubjectKind kind) {
       return "quadruped";
     case SubjectKind::kStatue:
       return "statue";
+    case SubjectKind::kStillsStatue:
+      return "stills-statue";
   }
   return "unknown";
 }
@@ -36,7 +41,9 @@ Scene::Scene(const SceneOptions& options)
                                       .seed = options.seed * 7919u + 17u}) {
   SILNET_CHECK(options.count >= 1);
   SILNET_CHECK(options.time_end > options.time_begin);
-  const int count = options.subject == SubjectKind::kStatue ? 1 : options.count;
+  const bool single =
+      options.subject == SubjectKind::kStatue || options.subject == SubjectKind::kStillsStatue;
+  const int count = single ? 1 : options.count;
   for (int i = 0; i < count; ++i) {
     WalkPathOptions path;
     path.radius = options.walk_radius;
@@ -79,6 +86,10 @@ Scene::Scene(const SceneOptions& options)
         subjects_.push_back(std::make_unique<HumanSubject>(statue, &materials_));
         break;
       }
+      case SubjectKind::kStillsStatue:
+        subjects_.push_back(
+            std::make_unique<StillsStatue>(StillsStatueOptions{.seed = seed}, &materials_));
+        break;
     }
   }
 }

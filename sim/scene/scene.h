@@ -12,19 +12,21 @@ namespace silnet::sim {
 
 // The kinds of subject the simulator can stage.
 enum class SubjectKind {
-  kHuman,      // walking, turning, arm-raising figures
-  kQuadruped,  // trotting four-legged animals
-  kStatue,     // one static human figure in stone, for multi-view stereo
+  kHuman,         // walking, turning, arm-raising figures
+  kQuadruped,     // trotting four-legged animals
+  kStatue,        // one static human figure in stone, for multi-view stereo
+  kStillsStatue,  // the stereo stills' figure: a through-hole, a staff, T-junctions
+                  // (stills_statue.h)
 };
 
-// Parses "human", "quadruped" or "statue"; throws InputError otherwise.
+// Parses "human", "quadruped", "statue" or "stills-statue"; throws InputError otherwise.
 SubjectKind ParseSubjectKind(const std::string& name);
 std::string ToString(SubjectKind kind);
 
 // Parameters of a scene.
 struct SceneOptions {
   SubjectKind subject = SubjectKind::kHuman;
-  int count = 1;             // subjects (ignored for statues: always one)
+  int count = 1;             // subjects (ignored for both statues: always one)
   double walk_radius = 1.8;  // metres; subjects stay within this distance of the centre
   double mean_speed = 0.9;   // metres per second
   double time_begin = 0.0;   // seconds; motion is defined on [time_begin, time_end]
@@ -46,7 +48,10 @@ class Scene {
   const Environment& environment() const { return environment_; }
   int subject_count() const { return static_cast<int>(subjects_.size()); }
   const Subject& subject(int index) const { return *subjects_[static_cast<size_t>(index)]; }
-  bool is_static() const { return options_.subject == SubjectKind::kStatue; }
+  bool is_static() const {
+    return options_.subject == SubjectKind::kStatue ||
+           options_.subject == SubjectKind::kStillsStatue;
+  }
   const SceneOptions& options() const { return options_; }
 
  private:

@@ -54,6 +54,24 @@ TEST(CameraNetwork, EveryLayoutLooksAtTheCaptureArea) {
   }
 }
 
+TEST(CameraNetwork, CamerasAimAtTheTargetHeightWithinTheAimJitter) {
+  for (double jitter : {0.0, 0.05}) {
+    CameraNetworkOptions o;
+    o.cameras = 10;
+    o.layout = RigLayout::kDome;
+    o.target_height = 1.4;
+    o.aim_jitter = jitter;
+    for (const CameraModel& c : MakeCameraNetwork(o)) {
+      // The optical axis (the camera's z in the world) passes the aim point.
+      const Eigen::Vector3d axis = c.R.row(2).transpose();
+      const Eigen::Vector3d to_target = Eigen::Vector3d(0, 0, 1.4) - c.Center();
+      const double miss = (to_target - to_target.dot(axis) * axis).norm();
+      EXPECT_LE(miss, jitter * std::sqrt(2.0 + 0.36) + 1e-9) << c.id;
+      EXPECT_NEAR(to_target.norm(), 4.5, 0.25) << c.id;
+    }
+  }
+}
+
 TEST(CameraNetwork, RejectsImpossibleOptionsWithAReason) {
   CameraNetworkOptions o;
   o.cameras = 1;
@@ -63,6 +81,9 @@ TEST(CameraNetwork, RejectsImpossibleOptionsWithAReason) {
   EXPECT_THROW(MakeCameraNetwork(o), InputError);
   o = {};
   o.horizontal_fov_deg = 200;
+  EXPECT_THROW(MakeCameraNetwork(o), InputError);
+  o = {};
+  o.aim_jitter = -0.1;
   EXPECT_THROW(MakeCameraNetwork(o), InputError);
   EXPECT_THROW(ParseRigLayout("circle"), InputError);
 }
