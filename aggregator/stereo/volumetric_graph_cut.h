@@ -1,0 +1,78 @@
+#pragma once
+// The baseline volumetric graph cut (thesis 5.4.1, after Vogiatzis et al.): the surface
+// minimising E(S) = integral over S of rho(x) dA - ballooning * volume(S), rho = the
+// photo-consistency cost exp(-lambda * votes) of 6.8.1, among the surfaces between the visual
+// hull and an inner offset surface. Stages: the hull's distance transform and the lattice's
+// roles, the flow graph (stereo_graph.h), Boykov-Kolmogorov max flow (max_flow.h), the labels,
+// and the surface of the interior cells (surface_extraction.h). Silhouette constraints are not
+// enforced here; the exact formulation of ch. 6 builds on these parts.
+
+#include <cstddef>
+#include <string>
+
+#include "aggregator/hulls/triangle_mesh.h"
+#include "aggregator/hulls/voxel_grid.h"
+#include "aggregator/stereo/surface_extraction.h"
+#include "aggregator/stereo/vote_volume.h"
+
+namespace silnet::aggregator {
+
+// Settings of the graph cut.
+struct VolumetricGraphCutOptions {
+  double lambda = 1.0;                 // cost per face exp(-lambda * votes) (6.8.1), > 0
+  double inner_offset_fraction = 0.4;  // T of 6.6: pockets deeper than T * d_max, in (0, 1)
+  double inner_offset_cells = 0;       // > 0: fixed inner offset depth in cells instead of T
+  double ballooning = 0;               // volume reward per interior cell (5.4.1), >= 0
+  bool extract_surface = true;         // also build the surface mesh
+  SurfaceExtractionOptions surface;
+
+  // True if the options make sense; otherwise false with a reason.
+  bool IsValid(std::string* reason) const;
+};
+
+// Sizes and times of one run.
+struct VolumetricGraphCutStats {
+  size_t lattice_cells = 0;
+  size_t hull_cells = 0;
+  size_t pocket_cells = 0;        // tied to the source
+  size_t nodes = 0;               // free cells: graph nodes
+  size_t n_links = 0;             // edges between nodes (two arcs each)
+  size_t t_link_faces = 0;        // faces of nodes with pocket or outside cells
+  double max_depth_cells = 0;     // d_max of the hull
+  double inner_offset_cells = 0;  // the depth used
+  double cut_cost = 0;            // capacity of the minimum cut incl. forced faces
+  size_t interior_cells = 0;      // cells labelled interior
+  size_t graph_bytes = 0;         // max-flow library's nodes and arcs
+  size_t lattice_bytes = 0;       // roles, node index, labels, distances
+  double seconds_distance = 0;    // distance transform and roles
+  double seconds_build = 0;       // flow graph
+  double seconds_max_flow = 0;    // Boykov-Kolmogorov
+  double seconds_labels = 0;      // interior grid from the cut
+  double seconds_surface = 0;     // surface mesh
+  size_t surface_triangles = 0;
+
+  // One line with the sizes and times, for logs.
+  std::string Brief() const;
+};
+
+// The labelled cells and their surface, or why there are none.
+struct VolumetricGraphCutResult {
+  bool success = false;
+  std::string reason;    // when !success
+  VoxelGrid interior;    // on the vote lattice: 1 = interior (source side)
+  TriangleMesh surface;  // closed, oriented, manifold (when options.extract_surface)
+  VolumetricGraphCutStats stats;
+};
+
+// Runs the cut of `votes` inside `hull` (occupancy on exactly the votes' lattice; CheckError
+// otherwise, and for invalid options). An empty hull, or one with no cell deeper than the
+// inner offset, is reported as a failure.
+VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const VoxelGrid& hull,
+                                            const VolumetricGraphCutOptions& options);
+
+// The same with the hull as a closed mesh (e.g. the polyhedral visual hull), voxelised on the
+// votes' lattice (cells whose centres lie inside it).
+VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const TriangleMesh& hull,
+                                            const VolumetricGraphCutOptions& options);
+
+}  // namespace silnet::aggregator

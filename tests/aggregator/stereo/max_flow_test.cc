@@ -1,0 +1,132 @@
+// The max-flow layer against a hand-computed graph and against brute-force minimum cuts of
+// random small graphs (all 2^n labellings).
+
+#include "aggregator/stereo/max_flow.h"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "shared/util/check.h"
+
+namespace silnet::aggregator {
+namespace {
+
+// Source -> a 4, source -> b 2, a -> b 1, a -> sink 2, b -> sink 4. Flow: 2 along s-a-t, 2
+// along s-b-t, 1 along s-a-b-t = 5. Cuts: {s} 6, {s, a} 2 + 1 + 2 = 5, {s, b} 4 + 4 = 8,
+// {s, a, b} 2 + 4 = 6, so the minimum cut {s, a} is unique.
+TEST(MaxFlowGraph, HandComputedGraph) {
+  MaxFlowGraph graph(2, 1);
+  const int a = graph.AddNodes(2);
+  const int b = a + 1;
+  graph.AddTerminalCapacities(a, 4, 2);
+  graph.AddTerminalCapacities(b, 2, 4);
+  graph.AddEdge(a, b, 1, 0);
+  EXPECT_FALSE(graph.solved());
+  EXPECT_DOUBLE_EQ(graph.Solve(), 5.0);
+  EXPECT_DOUBLE_EQ(graph.flow(), 5.0);
+  EXPECT_TRUE(graph.IsSourceSide(a));
+  EXPECT_FALSE(graph.IsSourceSide(b));
+  EXPECT_EQ(graph.num_nodes(), 2);
+  EXPECT_EQ(graph.num_edges(), 1);
+  EXPECT_EQ(graph.MemoryBytes(), 2u * 48u + 2u * 32u);
+}
+
+struct RandomGraph {
+  int n = 0;
+  std::vector<double> source, sink;  // t-link capacities per node
+  struct Edge {
+    int a, b;
+    double ab, ba;
+  };
+  std::vector<Edge> edges;
+};
+
+RandomGraph MakeRandomGraph(std::mt19937_64& rng, int n) {
+  std::uniform_real_distribution<double> capacity(0.0, 10.0);
+  std::bernoulli_distribution present(0.4), zero(0.2);
+  RandomGraph g;
+  g.n = n;
+  for (int i = 0; i < n; ++i) {
+    g.source.push_back(zero(rng) ? 0.0 : capacity(rng));
+    g.sink.push_back(zero(rng) ? 0.0 : capacity(rng));
+  }
+  for (int a = 0; a < n; ++a) {
+    for (int b = a + 1; b < n; ++b) {
+      if (present(rng)) g.edges.push_back({a, b, capacity(rng), zero(rng) ? 0.0 : capacity(rng)});
+    }
+  }
+  return g;
+}
+
+// Capacity of the cut whose source side is the set bits of `mask`.
+double CutCapacity(const RandomGraph& g, unsigned mask) {
+  const auto on_source = [mask](int i) { return ((mask >> i) & 1u) != 0; };
+  double cut = 0;
+  for (int i = 0; i < g.n; ++i)
+    cut += on_source(i) ? g.sink[i] : g.source[i];
+  for (const auto& e : g.edges) {
+    if (on_source(e.a) && !on_source(e.b)) cut += e.ab;
+    if (on_source(e.b) && !on_source(e.a)) cut += e.ba;
+  }
+  return cut;
+}
+
+TEST(MaxFlowGraph, MatchesBruteForceMinimumCut) {
+  constexpr int kNodes = 10;
+  for (int seed = 0; seed < 50; ++seed) {
+    std::mt19937_64 rng(static_cast<uint64_t>(seed));
+    const RandomGraph g = MakeRandomGraph(rng, kNodes);
+    double best = std::numeric_limits<double>::infinity();
+    for (unsigned mask = 0; mask < (1u << kNodes); ++mask)
+      best = std::min(best, CutCapacity(g, mask));
+
+    MaxFlowGraph graph(kNodes, static_cast<int64_t>(g.edges.size()));
+    ASSERT_EQ(graph.AddNodes(kNodes), 0);
+    for (int i = 0; i < kNodes; ++i)
+      graph.AddTerminalCapacities(i, g.source[i], g.sink[i]);
+    for (const auto& e : g.edges)
+      graph.AddEdge(e.a, e.b, e.ab, e.ba);
+    const double flow = graph.Solve();
+    unsigned labels = 0;
+    for (int i = 0; i < kNodes; ++i)
+      labels |= graph.IsSourceSide(i) ? (1u << i) : 0u;
+    EXPECT_NEAR(flow, best, 1e-9 * (1 + best)) << "seed " << seed;
+    EXPECT_NEAR(CutCapacity(g, labels), best, 1e-9 * (1 + best)) << "seed " << seed;
+  }
+}
+
+TEST(MaxFlowGraph, EmptyGraphAndMisuse) {
+  MaxFlowGraph empty(0, 0);
+  EXPECT_EQ(empty.Solve(), 0.0);
+  EXPECT_THROW(empty.Solve(), CheckError);
+
+  MaxFlowGraph graph(0, 0);
+  EXPECT_THROW(graph.AddNodes(0), CheckError);
+  graph.AddNodes(3);
+  EXPECT_THROW(graph.AddEdge(0, 0, 1, 1), CheckError);
+  EXPECT_THROW(graph.AddEdge(0, 3, 1, 1), CheckError);
+  EXPECT_THROW(graph.AddEdge(0, 1, -1, 1), CheckError);
+  EXPECT_THROW(graph.AddTerminalCapacities(0, -1, 0), CheckError);
+  EXPECT_THROW(graph.IsSourceSide(0), CheckError);  // before Solve
+  graph.AddTerminalCapacities(0, 1, 0);
+  graph.AddEdge(0, 1, 2, 0);
+  graph.AddTerminalCapacities(1, 0, 3);
+  EXPECT_DOUBLE_EQ(graph.Solve(), 1.0);
+  EXPECT_THROW(graph.AddNodes(1), CheckError);
+  EXPECT_TRUE(graph.IsSourceSide(2));  // isolated: either side, reported as source
+}
+
+TEST(MaxFlowGraph, MovesKeepTheGraph) {
+  MaxFlowGraph a(0, 0);
+  a.AddNodes(1);
+  a.AddTerminalCapacities(0, 2, 3);
+  MaxFlowGraph b = std::move(a);
+  EXPECT_DOUBLE_EQ(b.Solve(), 2.0);
+  EXPECT_FALSE(b.IsSourceSide(0));
+}
+
+}  // namespace
+}  // namespace silnet::aggregator
