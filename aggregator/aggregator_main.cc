@@ -3,6 +3,7 @@
 //   pairs      every camera pair's epipolar geometry and time offset from the silhouettes
 //   calibrate  pairs, synchronisation and calibration of the whole network
 //   hulls      a visual hull per frame from silhouettes and a calibration
+//   stereo     a surface model of a still subject from calibrated stills
 //   live       the whole chain as the streams arrive (optionally as a service)
 //   status     what the live job in a folder reports about its nodes and cameras
 //   recalibrate  ask the live job in a folder to recalibrate
@@ -23,10 +24,10 @@ int main(int argc, char** argv) {
   std::string log_level = "info";
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
       ->capture_default_str();
-  const cli::Command commands[] = {cli::AddIngestCommand(app),     cli::AddPairsCommand(app),
-                                   cli::AddCalibrateCommand(app),  cli::AddHullsCommand(app),
-                                   cli::AddLiveCommand(app),       cli::AddStatusCommand(app),
-                                   cli::AddRecalibrateCommand(app)};
+  const cli::Command commands[] = {cli::AddIngestCommand(app),    cli::AddPairsCommand(app),
+                                   cli::AddCalibrateCommand(app), cli::AddHullsCommand(app),
+                                   cli::AddStereoCommand(app),    cli::AddLiveCommand(app),
+                                   cli::AddStatusCommand(app),    cli::AddRecalibrateCommand(app)};
   CLI11_PARSE(app, argc, argv);
   cli::WatchSignals();
   try {

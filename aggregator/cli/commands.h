@@ -17,6 +17,7 @@ Command AddIngestCommand(CLI::App& app);
 Command AddPairsCommand(CLI::App& app);
 Command AddCalibrateCommand(CLI::App& app);
 Command AddHullsCommand(CLI::App& app);
+Command AddStereoCommand(CLI::App& app);
 Command AddLiveCommand(CLI::App& app);
 Command AddStatusCommand(CLI::App& app);
 Command AddRecalibrateCommand(CLI::App& app);

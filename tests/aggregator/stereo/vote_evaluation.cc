@@ -1,45 +1,8 @@
 #include "tests/aggregator/stereo/vote_evaluation.h"
 
 #include <cmath>
-#include <opencv2/flann.hpp>
 
 namespace silnet::aggregator::testing {
-
-struct NearestPoint::Index {
-  cv::Mat points;
-  std::unique_ptr<cv::flann::Index> tree;
-};
-
-namespace {
-
-cv::Mat ToMat(const std::vector<Eigen::Vector3d>& points) {
-  cv::Mat mat(static_cast<int>(points.size()), 3, CV_32F);
-  for (size_t i = 0; i < points.size(); ++i)
-    for (int a = 0; a < 3; ++a)
-      mat.at<float>(static_cast<int>(i), a) = static_cast<float>(points[i][a]);
-  return mat;
-}
-
-}  // namespace
-
-NearestPoint::NearestPoint(const std::vector<Eigen::Vector3d>& points)
-    : index_(std::make_unique<Index>()) {
-  index_->points = ToMat(points);
-  index_->tree =
-      std::make_unique<cv::flann::Index>(index_->points, cv::flann::KDTreeIndexParams(1));
-}
-
-NearestPoint::~NearestPoint() = default;
-
-std::vector<double> NearestPoint::Distances(const std::vector<Eigen::Vector3d>& queries) const {
-  if (queries.empty()) return {};
-  cv::Mat indices, squared;
-  index_->tree->knnSearch(ToMat(queries), indices, squared, 1, cv::flann::SearchParams(-1));
-  std::vector<double> out(queries.size());
-  for (size_t i = 0; i < queries.size(); ++i)
-    out[i] = std::sqrt(static_cast<double>(squared.at<float>(static_cast<int>(i), 0)));
-  return out;
-}
 
 std::vector<double> VoteShareWithin(const VoteVolume& volume, const NearestPoint& truth,
                                     const std::vector<double>& distances) {

@@ -3,26 +3,16 @@
 // (gt_surface.ply points): where the votes lie and where the maxima along viewing rays lie.
 
 #include <Eigen/Core>
-#include <memory>
 #include <vector>
 
+#include "aggregator/stereo/nearest_point.h"
 #include "aggregator/stereo/photo_consistency.h"
 #include "aggregator/stereo/stereo_views.h"
 
 namespace silnet::aggregator::testing {
 
-// Exact nearest-point distances to a point set (k-d tree, OpenCV flann).
-class NearestPoint {
- public:
-  explicit NearestPoint(const std::vector<Eigen::Vector3d>& points);
-  ~NearestPoint();
-  // Distances from each query to its nearest point, metres.
-  std::vector<double> Distances(const std::vector<Eigen::Vector3d>& queries) const;
-
- private:
-  struct Index;
-  std::unique_ptr<Index> index_;
-};
+// The library's k-d tree (aggregator/stereo/nearest_point.h), under the helpers' name.
+using ::silnet::aggregator::NearestPoint;
 
 // Share of all votes in cells whose centre lies within `distance` of the truth, for each of
 // `distances` (metres).

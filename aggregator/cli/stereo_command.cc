@@ -1,0 +1,87 @@
+// silnet-aggregator stereo: a closed surface model of a still subject from a stills folder and
+// its calibration (the baseline graph cut of thesis ch. 5 until the exact silhouette
+// constraints of ch. 6 land).
+
+#include <cstdio>
+
+#include "aggregator/cli/cli_support.h"
+#include "aggregator/cli/commands.h"
+#include "aggregator/stereo/stereo_job.h"
+#include "shared/util/check.h"
+
+namespace silnet::aggregator::cli {
+namespace {
+
+struct StereoArgs {
+  std::string input, calibration, out;
+  int still = 0;
+  double lambda = StereoGraphCutDefaults().lambda;
+  double ballooning = StereoGraphCutDefaults().ballooning;
+  int threads = 0;
+};
+
+void PrintEvaluation(const char* name, const StereoMeshSummary& mesh) {
+  if (mesh.evaluation) std::printf("  %s: %s\n", name, mesh.evaluation->Brief().c_str());
+}
+
+int RunStereo(const StereoArgs& args) {
+  StereoJobConfig config;
+  config.input = args.input;
+  config.calibration = args.calibration;
+  config.output = args.out;
+  config.still = args.still;
+  config.graph_cut.lambda = args.lambda;
+  config.graph_cut.ballooning = args.ballooning;
+  config.threads = args.threads;
+  const auto run =
+      RunWithProgress("stereo", [&](Progress* progress) { return RunStereoJob(config, progress); });
+  if (!run) return 130;
+  const StereoJobResult& result = *run;
+  if (!result.success) {
+    std::printf("stereo: no model: %s (%.1f s) -> %s/stereo.yaml\n", result.reason.c_str(),
+                result.seconds.total, args.out.c_str());
+    return 3;
+  }
+  size_t missed = 0, covered = 0;
+  for (const SilhouetteConsistency& v : result.model.views) {
+    missed += v.missed_inner;
+    covered += v.covered_outer;
+  }
+  std::printf(
+      "stereo: %zu views, model %zu triangles, lattice %dx%dx%d of %.2f mm, %zu graph nodes; "
+      "silhouette pixels >= 1 px inside missed %zu, outside covered %zu; %.1f s "
+      "(hull %.1f, photo-consistency %.1f, graph cut %.1f) -> %s/model.ply\n",
+      result.views, result.model.triangles, result.lattice_dims[0], result.lattice_dims[1],
+      result.lattice_dims[2], result.cell_size * 1e3, result.graph_cut.nodes, missed, covered,
+      result.seconds.total, result.seconds.hull, result.seconds.photo_consistency,
+      result.seconds.graph_cut, args.out.c_str());
+  PrintEvaluation("model", result.model);
+  PrintEvaluation("visual hull", result.hull);
+  return 0;
+}
+
+}  // namespace
+
+Command AddStereoCommand(CLI::App& app) {
+  auto args = std::make_shared<StereoArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "stereo", "a closed surface model of a still subject from calibrated stills (baseline)");
+  cmd->add_option("input", args->input,
+                  "stills folder (<camera>/stills/%06d.png, <camera>/masks/%06d.png)")
+      ->required();
+  cmd->add_option("--calib", args->calibration, "calibration.yaml (or ground_truth.yaml)")
+      ->required();
+  cmd->add_option("-o,--out", args->out, "output folder")->required();
+  cmd->add_option("--still", args->still, "the still (frame number) to reconstruct")
+      ->capture_default_str();
+  // Values are validated by the job (InputError, exit code 2, with the reason).
+  cmd->add_option("--lambda", args->lambda,
+                  "photo-consistency cost exp(-lambda * votes) of the graph cut (> 0)")
+      ->capture_default_str();
+  cmd->add_option("--ballooning", args->ballooning, "volume reward per interior cell (>= 0)")
+      ->capture_default_str();
+  cmd->add_option("--threads", args->threads, "threads (0 = all cores)")->capture_default_str();
+  return {cmd, [args] { return RunStereo(*args); }};
+}
+
+}  // namespace silnet::aggregator::cli

@@ -1,0 +1,257 @@
+#include "aggregator/stereo/model_evaluation.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <random>
+
+#include "aggregator/hulls/hull_reprojection.h"
+#include "aggregator/stereo/nearest_point.h"
+#include "shared/util/check.h"
+
+namespace silnet::aggregator {
+namespace {
+
+// True points whose nearest-neighbour distances estimate the truth's spacing.
+constexpr size_t kSpacingProbes = 20000;
+
+Eigen::Vector3d Vertex(const TriangleMesh& mesh, int32_t index) {
+  return mesh.vertices[static_cast<size_t>(index)].cast<double>();
+}
+
+// For a uniformly random sample of density 1/s^2 the median nearest-neighbour distance is
+// sqrt(ln 2 / pi) s = 0.47 s: s is about twice it.
+double EstimateSpacing(const std::vector<Eigen::Vector3d>& points, const NearestPoint& tree) {
+  if (points.size() < 2) return 0.0;
+  const size_t step = std::max<size_t>(1, points.size() / kSpacingProbes);
+  std::vector<Eigen::Vector3d> probes;
+  for (size_t i = 0; i < points.size(); i += step)
+    probes.push_back(points[i]);
+  std::vector<int> indices;
+  std::vector<double> distances;
+  tree.KNearest(probes, 2, &indices, &distances);
+  std::vector<double> nearest;
+  for (size_t i = 0; i < probes.size(); ++i)
+    nearest.push_back(distances[2 * i + 1]);
+  std::nth_element(nearest.begin(), nearest.begin() + static_cast<long>(nearest.size() / 2),
+                   nearest.end());
+  return 2.0 * nearest[nearest.size() / 2];
+}
+
+// Distance from each query to the surface sampled by (points, normals) at `spacing`: the
+// smallest over the `k` nearest samples of sqrt((n.d)^2 + max(0, |d_tangential| - spacing)^2).
+std::vector<double> SurfaceDistances(const std::vector<Eigen::Vector3d>& queries,
+                                     const std::vector<Eigen::Vector3d>& points,
+                                     const std::vector<Eigen::Vector3d>& normals,
+                                     const NearestPoint& tree, double spacing, int k) {
+  std::vector<int> indices;
+  std::vector<double> unused;
+  tree.KNearest(queries, k, &indices, &unused);
+  std::vector<double> out(queries.size(), std::numeric_limits<double>::infinity());
+  const size_t kk = static_cast<size_t>(k);
+  for (size_t q = 0; q < queries.size(); ++q) {
+    for (size_t j = 0; j < kk; ++j) {
+      const int i = indices[q * kk + j];
+      if (i < 0) continue;
+      const Eigen::Vector3d d = queries[q] - points[static_cast<size_t>(i)];
+      const Eigen::Vector3d& n = normals[static_cast<size_t>(i)];
+      const double along = n.dot(d);
+      const double across = std::max(0.0, (d - along * n).norm() - spacing);
+      out[q] = std::min(out[q], std::sqrt(along * along + across * across));
+    }
+  }
+  return out;
+}
+
+// The value below which `fraction` of `values` lie (nearest rank).
+double Quantile(std::vector<double> values, double fraction) {
+  if (values.empty()) return std::numeric_limits<double>::infinity();
+  const size_t rank =
+      std::min(values.size() - 1,
+               static_cast<size_t>(std::ceil(fraction * static_cast<double>(values.size()))) - 1);
+  std::nth_element(values.begin(), values.begin() + static_cast<long>(rank), values.end());
+  return values[rank];
+}
+
+}  // namespace
+
+bool ModelEvaluationOptions::IsValid(std::string* reason) const {
+  if (!(footprint > 0)) {
+    *reason = "the footprint must be positive";
+    return false;
+  }
+  if (!(sample_spacing_footprints > 0)) {
+    *reason = "the model sampling spacing must be positive";
+    return false;
+  }
+  if (!(accuracy_fraction > 0 && accuracy_fraction <= 1)) {
+    *reason = "the accuracy fraction must be in (0, 1]";
+    return false;
+  }
+  for (double d : completeness_footprints) {
+    if (!(d > 0)) {
+      *reason = "completeness distances must be positive";
+      return false;
+    }
+  }
+  if (!(truth_spacing >= 0)) {
+    *reason = "the truth spacing must be >= 0 (0 = estimated)";
+    return false;
+  }
+  if (neighbours < 1 || max_samples < 1) {
+    *reason = "neighbours and max_samples must be at least 1";
+    return false;
+  }
+  return true;
+}
+
+std::string ModelEvaluation::Brief() const {
+  std::string text = fmt::format("accuracy {:.2f} mm ({:.2f} fp), completeness", accuracy_m * 1e3,
+                                 accuracy_footprints);
+  for (const Completeness& c : completeness)
+    text += fmt::format(" {:.1f} % within {:g} fp", 100 * c.fraction, c.distance_footprints);
+  return text;
+}
+
+SurfaceSample SampleSurfaceBySpacing(const TriangleMesh& mesh, double spacing, uint64_t seed) {
+  SILNET_CHECK(spacing > 0);
+  std::vector<double> cumulative;
+  cumulative.reserve(mesh.triangles.size());
+  double total = 0;
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d a = Vertex(mesh, t[0]);
+    total += 0.5 * (Vertex(mesh, t[1]) - a).cross(Vertex(mesh, t[2]) - a).norm();
+    cumulative.push_back(total);
+  }
+  SurfaceSample sample;
+  if (!(total > 0)) return sample;
+  const size_t count =
+      std::max<size_t>(1, static_cast<size_t>(std::llround(total / (spacing * spacing))));
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  sample.points.reserve(count);
+  sample.normals.reserve(count);
+  for (size_t s = 0; s < count; ++s) {
+    const size_t t =
+        std::min(mesh.triangles.size() - 1,
+                 static_cast<size_t>(
+                     std::lower_bound(cumulative.begin(), cumulative.end(), uniform(rng) * total) -
+                     cumulative.begin()));
+    const auto& tri = mesh.triangles[t];
+    const Eigen::Vector3d a = Vertex(mesh, tri[0]), ab = Vertex(mesh, tri[1]) - a,
+                          ac = Vertex(mesh, tri[2]) - a;
+    double u = uniform(rng), v = uniform(rng);
+    if (u + v > 1) u = 1 - u, v = 1 - v;
+    sample.points.push_back(a + u * ab + v * ac);
+    const Eigen::Vector3d n = ab.cross(ac);
+    sample.normals.push_back(n.norm() > 0 ? Eigen::Vector3d(n.normalized())
+                                          : Eigen::Vector3d::Zero());
+  }
+  return sample;
+}
+
+ModelEvaluation EvaluateModel(const TriangleMesh& model,
+                              const std::vector<Eigen::Vector3d>& truth_points,
+                              const std::vector<Eigen::Vector3d>& truth_normals,
+                              const ModelEvaluationOptions& options) {
+  std::string why;
+  SILNET_CHECK_MSG(options.IsValid(&why), why);
+  SILNET_CHECK(truth_points.size() == truth_normals.size());
+  ModelEvaluation result;
+  result.footprint = options.footprint;
+  result.truth_points = truth_points.size();
+  result.accuracy_m = result.accuracy_footprints = result.mean_distance_m =
+      std::numeric_limits<double>::infinity();
+  for (double d : options.completeness_footprints)
+    result.completeness.push_back({d * options.footprint, d, 0.0});
+
+  double area = 0;
+  for (const auto& t : model.triangles) {
+    const Eigen::Vector3d a = Vertex(model, t[0]);
+    area += 0.5 * (Vertex(model, t[1]) - a).cross(Vertex(model, t[2]) - a).norm();
+  }
+  result.sample_spacing = std::max(options.sample_spacing_footprints * options.footprint,
+                                   std::sqrt(area / static_cast<double>(options.max_samples)));
+  const SurfaceSample sample =
+      SampleSurfaceBySpacing(model, result.sample_spacing, options.random_seed);
+  result.model_samples = sample.points.size();
+  if (sample.points.empty() || truth_points.empty()) return result;
+
+  const NearestPoint truth_tree(truth_points);
+  result.truth_spacing =
+      options.truth_spacing > 0 ? options.truth_spacing : EstimateSpacing(truth_points, truth_tree);
+  const std::vector<double> to_truth =
+      SurfaceDistances(sample.points, truth_points, truth_normals, truth_tree, result.truth_spacing,
+                       options.neighbours);
+  result.accuracy_m = Quantile(to_truth, options.accuracy_fraction);
+  result.accuracy_footprints = result.accuracy_m / options.footprint;
+  double sum = 0;
+  for (double d : to_truth)
+    sum += d;
+  result.mean_distance_m = sum / static_cast<double>(to_truth.size());
+
+  const NearestPoint model_tree(sample.points);
+  const std::vector<double> to_model =
+      SurfaceDistances(truth_points, sample.points, sample.normals, model_tree,
+                       result.sample_spacing, options.neighbours);
+  for (Completeness& c : result.completeness) {
+    const size_t within = static_cast<size_t>(std::count_if(
+        to_model.begin(), to_model.end(), [&](double d) { return d <= c.distance_m; }));
+    c.fraction = static_cast<double>(within) / static_cast<double>(to_model.size());
+  }
+  return result;
+}
+
+SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, const cv::Mat& mask,
+                                                   double margin_px) {
+  SILNET_CHECK(rendered.type() == CV_8UC1 && mask.type() == CV_8UC1);
+  SILNET_CHECK(rendered.size() == mask.size());
+  cv::Mat inside = mask != 0, outside = mask == 0;
+  cv::Mat depth_in, depth_out;
+  cv::distanceTransform(inside, depth_in, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+  cv::distanceTransform(outside, depth_out, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+  const float threshold = static_cast<float>(margin_px + 0.5);
+  SilhouetteConsistency result;
+  for (int y = 0; y < mask.rows; ++y) {
+    const uint8_t* m = mask.ptr<uint8_t>(y);
+    const uint8_t* r = rendered.ptr<uint8_t>(y);
+    const float* din = depth_in.ptr<float>(y);
+    const float* dout = depth_out.ptr<float>(y);
+    for (int x = 0; x < mask.cols; ++x) {
+      const bool covered = r[x] != 0;
+      if (m[x] != 0) {
+        ++result.silhouette_pixels;
+        if (!covered) ++result.missed_pixels;
+        if (din[x] >= threshold) {
+          ++result.inner_pixels;
+          if (!covered) ++result.missed_inner;
+        }
+      } else {
+        if (covered) ++result.covered_background;
+        if (dout[x] >= threshold) {
+          ++result.outer_pixels;
+          if (covered) ++result.covered_outer;
+        }
+      }
+    }
+  }
+  return result;
+}
+
+std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(
+    const TriangleMesh& model, const std::vector<StereoView>& views, double margin_px) {
+  std::vector<SilhouetteConsistency> out;
+  for (const StereoView& view : views) {
+    SilhouetteConsistency c = CompareSilhouetteConsistency(RenderMeshSilhouette(model, view.camera),
+                                                           view.mask, margin_px);
+    c.camera_id = view.camera.id;
+    out.push_back(c);
+  }
+  return out;
+}
+
+}  // namespace silnet::aggregator

@@ -1,0 +1,118 @@
+#pragma once
+// How good a reconstructed model is (thesis ch. 5-6 evaluation, after the Middlebury
+// multi-view benchmark of Seitz et al. 2006):
+//   accuracy      the distance within which `accuracy_fraction` (90 %) of the model lies from
+//                 the true surface;
+//   completeness  the share of the true surface within a distance of the model;
+// both in metres and in pixel footprints (the size of one pixel at the object, the unit the
+// thesis and issue 17 state targets in), and how exactly the model explains the silhouettes.
+//
+// The model is sampled uniformly by area (about one point per spacing^2, spacing half a
+// footprint by default, fixed seed: the figures are reproducible). The true surface is a
+// point sample with unit normals (gt_surface.ply). A distance between a point and a sampled
+// surface is taken to the nearest few samples' tangent planes, the in-plane offset beyond
+// the sampling spacing still counted: sqrt((n.d)^2 + max(0, |d - n(n.d)| - spacing)^2), so a
+// point lying on the surface measures about 0 however sparse the sample, and a point off it
+// measures its offset.
+//
+// Silhouette consistency (issue 17's acceptance): the model rendered into a view
+// (hull_reprojection.h: a pixel is covered iff its centre is inside a projected triangle)
+// against the view's mask. Pixel centres lie at half a pixel inside the outline where the
+// silhouette meets the background, so a silhouette pixel's distance inside the outline is its
+// mask distance transform (to the nearest background pixel centre) minus 0.5, and likewise
+// outside with the inverted mask. Counted: silhouette pixels at least `margin_px` inside the
+// outline the model misses, and background pixels at least `margin_px` outside it the model
+// covers. An exactly silhouette-consistent model has both 0.
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <opencv2/core/mat.hpp>
+#include <string>
+#include <vector>
+
+#include "aggregator/hulls/triangle_mesh.h"
+#include "aggregator/stereo/stereo_views.h"
+
+namespace silnet::aggregator {
+
+// Settings of the surface measures.
+struct ModelEvaluationOptions {
+  double footprint = 0.0;                  // pixel footprint at the object, metres, > 0
+  double sample_spacing_footprints = 0.5;  // model sampling spacing, footprints
+  double accuracy_fraction = 0.9;          // share of the model within the accuracy distance
+  std::vector<double> completeness_footprints = {1.0, 2.0};  // completeness distances
+  double truth_spacing = 0.0;     // true points' spacing, metres; 0 = estimated
+  int neighbours = 4;             // tangent planes tried per distance
+  size_t max_samples = 20000000;  // cap on model samples (spacing grows beyond it)
+  uint64_t random_seed = 1;       // model sampling
+
+  // True if the options make sense; otherwise false with a reason.
+  bool IsValid(std::string* reason) const;
+};
+
+// Completeness at one distance.
+struct Completeness {
+  double distance_m = 0.0;
+  double distance_footprints = 0.0;
+  double fraction = 0.0;  // of the true points within distance_m of the model, [0, 1]
+};
+
+// The measures of one model.
+struct ModelEvaluation {
+  double footprint = 0.0;    // metres, as given
+  size_t model_samples = 0;  // points sampled on the model
+  size_t truth_points = 0;
+  double sample_spacing = 0.0;  // of the model samples, metres
+  double truth_spacing = 0.0;   // of the true points, metres (given or estimated)
+  double accuracy_m = 0.0;      // accuracy_fraction of the model lies within this distance
+  double accuracy_footprints = 0.0;
+  double mean_distance_m = 0.0;            // mean model-to-truth distance
+  std::vector<Completeness> completeness;  // one per options.completeness_footprints
+
+  // One line: "accuracy 6.2 mm (1.06 fp), completeness 61.0 % / 73.9 % within 1 / 2 fp".
+  std::string Brief() const;
+};
+
+// Points spread uniformly by area over `mesh` (about one per spacing^2, at least one per
+// call with a non-empty mesh), with their triangles' unit normals; reproducible for a seed.
+struct SurfaceSample {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3d> normals;
+};
+SurfaceSample SampleSurfaceBySpacing(const TriangleMesh& mesh, double spacing, uint64_t seed);
+
+// Accuracy and completeness of `model` (world metres) against the true points and unit
+// normals (same length). Throws CheckError for invalid options or mismatched lengths; an
+// empty model or truth gives infinite accuracy and zero completeness.
+ModelEvaluation EvaluateModel(const TriangleMesh& model,
+                              const std::vector<Eigen::Vector3d>& truth_points,
+                              const std::vector<Eigen::Vector3d>& truth_normals,
+                              const ModelEvaluationOptions& options);
+
+// The silhouette consistency of a model in one view.
+struct SilhouetteConsistency {
+  std::string camera_id;
+  size_t silhouette_pixels = 0;   // mask pixels
+  size_t inner_pixels = 0;        // silhouette pixels >= margin inside the outline
+  size_t missed_inner = 0;        // of which the model does not cover
+  size_t outer_pixels = 0;        // background pixels >= margin outside the outline
+  size_t covered_outer = 0;       // of which the model covers
+  size_t missed_pixels = 0;       // all silhouette pixels not covered
+  size_t covered_background = 0;  // all background pixels covered
+};
+
+// Default margin of the consistency counts (issue 17: "1 px inside / outside the outline").
+inline constexpr double kSilhouetteMarginPx = 1.0;
+
+// Compares a coverage image (CV_8UC1, non-zero = covered) with a mask (CV_8UC1, non-zero =
+// silhouette) of the same size; CheckError otherwise.
+SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, const cv::Mat& mask,
+                                                   double margin_px = kSilhouetteMarginPx);
+
+// Renders `model` into every view (RenderMeshSilhouette) and compares it with the view's mask.
+std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(
+    const TriangleMesh& model, const std::vector<StereoView>& views,
+    double margin_px = kSilhouetteMarginPx);
+
+}  // namespace silnet::aggregator

@@ -1,0 +1,96 @@
+#pragma once
+// The `stereo` job (thesis ch. 5-6): a closed surface model of a still subject from a stills
+// folder (stills_folder.h) and its calibration. Stages, each timed:
+//   load               the views of one still (undistorted, with silhouettes)
+//   visual hull        the exact polyhedral hull of the silhouettes (polyhedral_hull.h)
+//   photo-consistency  votes of all view pairs on a lattice inside the hull (6.8.1)
+//   graph cut          the baseline volumetric cut between the hull and an inner offset
+//                      (volumetric_graph_cut.h, 5.4.1); the exact silhouette constraints of
+//                      6.6-6.7 replace it later
+//   evaluation         per view silhouette consistency of model and hull (model_evaluation.h)
+//                      and, when the folder has gt_surface.ply (simulated stills), accuracy
+//                      and completeness of model and hull against it
+// Output in OUT (created if missing):
+//   model.ply    the model, binary PLY (ply_io.h), written only if it is closed and manifold
+//   hull.ply     the visual hull the model was cut from
+//   stereo.yaml  settings, lattice and graph sizes, time per stage, per view silhouette
+//                figures, the measures against the truth; written also after a failure,
+//                with its reason
+// Expected failures (no hull, no votes, a cut that is empty or not a closed manifold,
+// cancellation) are data: success false with a reason, and no model.ply (one left by an
+// earlier run in OUT is removed first).
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "aggregator/stereo/model_evaluation.h"
+#include "aggregator/stereo/photo_consistency.h"
+#include "aggregator/stereo/volumetric_graph_cut.h"
+#include "shared/util/progress.h"
+
+namespace silnet::aggregator {
+
+// The graph cut settings of the job. lambda 3 and ballooning 0.1 are measured on the
+// simulator (16-camera ring, 640x480; docs/PERFORMANCE.md): lambda 1 shrinks the model more
+// (completeness within 2 footprints 74 % against 84 %) for slightly better accuracy.
+VolumetricGraphCutOptions StereoGraphCutDefaults();
+
+// Inputs, outputs and settings of one run.
+struct StereoJobConfig {
+  std::filesystem::path input;                // stills folder
+  std::filesystem::path calibration;          // calibration.yaml (or ground_truth.yaml)
+  std::filesystem::path output;               // created if missing
+  int still = 0;                              // the still taken: stills/%06d.png, masks/%06d.png
+  PhotoConsistencyOptions photo_consistency;  // threads set by `threads`
+  VolumetricGraphCutOptions graph_cut = StereoGraphCutDefaults();
+  int threads = 0;  // 0 = all cores
+
+  // True if the settings make sense; otherwise false with a reason.
+  bool IsValid(std::string* reason) const;
+};
+
+// Seconds per stage.
+struct StereoStageTimes {
+  double load = 0, hull = 0, photo_consistency = 0, graph_cut = 0, evaluation = 0, total = 0;
+};
+
+// A mesh's figures in stereo.yaml.
+struct StereoMeshSummary {
+  std::string file;  // inside the output folder; empty if not written
+  size_t vertices = 0, triangles = 0;
+  bool closed_manifold = false;
+  double volume_m3 = 0;
+  std::vector<SilhouetteConsistency> views;   // against each view's mask
+  std::optional<ModelEvaluation> evaluation;  // against gt_surface.ply, when present
+};
+
+// What the job did.
+struct StereoJobResult {
+  bool success = false;
+  std::string reason;  // when !success: the stage and why ("visual hull: ...", "cancelled")
+  size_t views = 0;    // views used
+  std::vector<std::string> warnings;  // the loader's and the stages'
+  double footprint = 0;  // pixel footprint at the object, metres (the truth's, else estimated)
+  StereoMeshSummary hull, model;
+  PhotoConsistencyStats photo_consistency;
+  std::array<int, 3> lattice_dims = {0, 0, 0};  // vote lattice cells along x, y, z
+  double cell_size = 0;                         // metres
+  VolumetricGraphCutStats graph_cut;
+  StereoStageTimes seconds;
+};
+
+// Runs the job. Throws InputError for invalid settings and for what LoadStillsFolder rejects
+// (unreadable calibration, a camera without any silhouette source, too few views), and if
+// an output file cannot be written. `progress` (may be null) gets one stage after the other
+// ("load", "visual hull", "photo-consistency", "graph cut", "evaluation") and is polled for
+// cancellation between and within stages.
+StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress);
+
+// Writes OUT/stereo.yaml for `result` (config.output is OUT). Throws InputError if it cannot
+// be written.
+void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& result);
+
+}  // namespace silnet::aggregator
