@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <opencv2/core.hpp>
 #include <opencv2/core/persistence.hpp>
 #include <sstream>
 
@@ -121,6 +122,12 @@ void WriteMesh(cv::FileStorage& fs, const std::string& name, const StereoMeshSum
   fs << "}";
 }
 
+// True if any pixel of the outermost rows or columns of `mask` is silhouette.
+bool TouchesBorder(const cv::Mat& mask) {
+  return cv::countNonZero(mask.row(0)) > 0 || cv::countNonZero(mask.row(mask.rows - 1)) > 0 ||
+         cv::countNonZero(mask.col(0)) > 0 || cv::countNonZero(mask.col(mask.cols - 1)) > 0;
+}
+
 }  // namespace
 
 VolumetricGraphCutOptions StereoGraphCutDefaults() {
@@ -185,7 +192,27 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   // Visual hull.
   stage = Clock::now();
   if (progress) progress->Restart("visual hull", 1);
-  PolyhedralHullResult hull = ComputePolyhedralHull(views.Cameras(), views.Masks());
+  // A silhouette cut by the image border does not bound the subject: such views are left out
+  // of the hull (their photographs still vote).
+  std::vector<CameraModel> hull_cameras;
+  std::vector<cv::Mat> hull_masks;
+  for (const StereoView& view : views.views) {
+    if (TouchesBorder(view.mask)) {
+      result.warnings.push_back(view.camera.id +
+                                ": the silhouette touches the image border; left out of the hull");
+      spdlog::warn("{}", result.warnings.back());
+      continue;
+    }
+    hull_cameras.push_back(view.camera);
+    hull_masks.push_back(view.mask);
+  }
+  PolyhedralHullResult hull;
+  if (hull_cameras.size() < 2) {
+    hull.reason = fmt::format("{} of {} silhouettes lie inside their image, at least 2 needed",
+                              hull_cameras.size(), views.views.size());
+  } else {
+    hull = ComputePolyhedralHull(hull_cameras, hull_masks);
+  }
   result.seconds.hull = SecondsSince(stage);
   if (!hull.success || hull.mesh.triangles.empty()) {
     result.reason = "visual hull: " + (hull.success ? std::string("empty") : hull.reason);

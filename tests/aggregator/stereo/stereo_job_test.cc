@@ -14,7 +14,9 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <opencv2/core.hpp>
 #include <opencv2/core/persistence.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <random>
 
 #include "aggregator/hulls/hull_reprojection.h"
@@ -253,6 +255,37 @@ TEST(StereoJobTest, SimulatedStillsGiveAClosedModelMoreAccurateThanTheHull) {
               1e-9);
   EXPECT_NEAR(static_cast<double>(fs["model"]["evaluation"]["completeness"][1]["fraction"]),
               model.completeness[1].fraction, 1e-9);
+}
+
+// A silhouette cut by the image border (as in three Middlebury dino views) does not bound the
+// subject: that view is left out of the hull with a warning and the model is still built.
+TEST(StereoJobTest, ViewWhoseSilhouetteTouchesTheBorderIsLeftOutOfTheHull) {
+  silnet::testing::TempDir input;
+  std::filesystem::copy(SmallStills(), input.path(), std::filesystem::copy_options::recursive);
+  const std::filesystem::path mask_path = input / "cam00" / "masks" / "000000.png";
+  cv::Mat mask = cv::imread(mask_path.string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(mask.empty());
+  cv::Mat rows;
+  cv::reduce(mask, rows, 1, cv::REDUCE_MAX);
+  int row = 0;
+  while (row < rows.rows && rows.at<uint8_t>(row) == 0)
+    ++row;
+  ASSERT_LT(row, rows.rows);
+  mask.row(row).setTo(255);  // the silhouette now reaches both side borders
+  ASSERT_TRUE(cv::imwrite(mask_path.string(), mask));
+
+  silnet::testing::TempDir out;
+  StereoJobConfig config;
+  config.input = input.path();
+  config.calibration = input / "calibration.yaml";
+  config.output = out.path();
+  const StereoJobResult result = RunStereoJob(config, nullptr);
+  ASSERT_TRUE(result.success) << result.reason;
+  const std::string expected =
+      "cam00: the silhouette touches the image border; left out of the hull";
+  EXPECT_NE(std::find(result.warnings.begin(), result.warnings.end(), expected),
+            result.warnings.end());
+  EXPECT_TRUE(std::filesystem::exists(out / "model.ply"));
 }
 
 TEST(StereoJobTest, FailureIsDataAndLeavesNoModel) {
