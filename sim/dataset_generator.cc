@@ -45,15 +45,17 @@ SceneOptions SceneForCameras(const SimulationOptions& options,
   return scene;
 }
 
+void RequireWritableOutput(const std::filesystem::path& output, bool overwrite) {
+  std::error_code error;
+  if (std::filesystem::exists(output) && !std::filesystem::is_empty(output, error) && !overwrite)
+    throw InputError(output.string() + " is not empty (use --force to write into it)");
+}
+
 SimulationSummary GenerateDataset(const SimulationOptions& options,
                                   const std::filesystem::path& output, Progress* progress) {
   if (const std::string reason = options.Validate(); !reason.empty()) throw InputError(reason);
   const auto start = std::chrono::steady_clock::now();
-  std::error_code error;
-  if (std::filesystem::exists(output) && !std::filesystem::is_empty(output, error) &&
-      !options.overwrite) {
-    throw InputError(output.string() + " is not empty (use --force to write into it)");
-  }
+  RequireWritableOutput(output, options.overwrite);
   SimulationSummary summary;
   summary.cameras = MakeCameraNetwork(options.network);
   summary.frames = options.frames;

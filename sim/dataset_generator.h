@@ -44,6 +44,9 @@ struct SimulationSummary {
 SceneOptions SceneForCameras(const SimulationOptions& options,
                              const std::vector<CameraModel>& cameras);
 
+// Throws InputError if `output` exists and is not empty, unless `overwrite`.
+void RequireWritableOutput(const std::filesystem::path& output, bool overwrite);
+
 // Writes the dataset into `output` (created if missing). Throws InputError for invalid
 // options or a non-empty output folder without `overwrite`. Honours progress cancellation
 // (throws std::runtime_error("cancelled")).

@@ -14,6 +14,7 @@
 #include "shared/io/point_cloud_ply.h"
 #include "shared/util/check.h"
 #include "shared/util/parallel_for.h"
+#include "sim/dataset_generator.h"
 #include "sim/ground_truth.h"
 #include "sim/scene/outer_surface.h"
 #include "sim/scene/scene.h"
@@ -68,11 +69,7 @@ StillsSummary GenerateStills(const StillsOptions& options, const std::filesystem
                              Progress* progress) {
   if (const std::string reason = options.Validate(); !reason.empty()) throw InputError(reason);
   const auto start = std::chrono::steady_clock::now();
-  std::error_code error;
-  if (std::filesystem::exists(output) && !std::filesystem::is_empty(output, error) &&
-      !options.overwrite) {
-    throw InputError(output.string() + " is not empty (use --force to write into it)");
-  }
+  RequireWritableOutput(output, options.overwrite);
 
   SceneOptions scene_options;
   scene_options.subject = SubjectKind::kStillsStatue;

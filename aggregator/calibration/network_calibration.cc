@@ -65,6 +65,9 @@ class MetricRefinement {
   MetricRefinement(const CalibrationOptions& options, NetworkCalibration* out)
       : options_(options), out_(out) {}
 
+  // Whether the adjustments that follow keep the principal points as they are.
+  void HoldPrincipalPoints(bool hold) { options_.intrinsics.fix_principal_point = hold; }
+
   // Euclidean bundle adjustment on `graph`'s correspondences: first on a sample (the
   // cameras may still be far off), then on at most final_tracks_per_link of each link.
   void Adjust(const ViewGraph& graph, MetricScene* scene, const std::string& stage) {
@@ -103,7 +106,7 @@ class MetricRefinement {
     spdlog::info("{}: rms {:.3f} px, median {:.3f} px over {} observations ({:.1f} s)", name,
                  s.rms_px, s.median_px, s.observations, s.seconds);
   }
-  const CalibrationOptions& options_;
+  CalibrationOptions options_;
   NetworkCalibration* out_;
   bool distortion_started_ = false;
 };
@@ -505,13 +508,12 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
     for (int round = 0;
          round < refine_options.rematch_rounds && !(progress && progress->cancelled()); ++round) {
       // After a focal length search the principal points were held at the image centres
-      // while the cameras settled; the last round estimates them where the data hold them
-      // (refine holds a reference to refine_options).
+      // while the cameras settled; the last round estimates them where the data hold them.
       if (focal_searched && round + 1 == refine_options.rematch_rounds &&
           !options.intrinsics.fix_principal_point) {
         const std::string decision = FreePrincipalPoints(
             *scene, uncertainty_model, refine_options.bundle, options.free_principal_max_sigma_px);
-        refine_options.intrinsics.fix_principal_point = !decision.empty();
+        refine.HoldPrincipalPoints(!decision.empty());
         out.stages.push_back({"principal points", 0.0, 0.0,
                               decision.empty() ? "estimated in the last round" : decision});
         spdlog::info("principal points: {}",

@@ -203,13 +203,19 @@ const std::filesystem::path& SmallStills() {
   return dir.path();
 }
 
-TEST(StereoJobTest, SimulatedStillsGiveAClosedModelMoreAccurateThanTheHull) {
-  const std::filesystem::path& input = SmallStills();
-  silnet::testing::TempDir out;
+// The job's settings for stills in `input` (with their calibration.yaml) written to `output`.
+StereoJobConfig ConfigFor(const std::filesystem::path& input, const std::filesystem::path& output) {
   StereoJobConfig config;
   config.input = input;
   config.calibration = input / "calibration.yaml";
-  config.output = out.path();
+  config.output = output;
+  return config;
+}
+
+TEST(StereoJobTest, SimulatedStillsGiveAClosedModelMoreAccurateThanTheHull) {
+  const std::filesystem::path& input = SmallStills();
+  silnet::testing::TempDir out;
+  StereoJobConfig config = ConfigFor(input, out.path());
   Progress progress("stereo", 0);
   const auto start = std::chrono::steady_clock::now();
   const StereoJobResult result = RunStereoJob(config, &progress);
@@ -275,10 +281,7 @@ TEST(StereoJobTest, ViewWhoseSilhouetteTouchesTheBorderIsLeftOutOfTheHull) {
   ASSERT_TRUE(cv::imwrite(mask_path.string(), mask));
 
   silnet::testing::TempDir out;
-  StereoJobConfig config;
-  config.input = input.path();
-  config.calibration = input / "calibration.yaml";
-  config.output = out.path();
+  const StereoJobConfig config = ConfigFor(input.path(), out.path());
   const StereoJobResult result = RunStereoJob(config, nullptr);
   ASSERT_TRUE(result.success) << result.reason;
   const std::string expected =
@@ -291,10 +294,7 @@ TEST(StereoJobTest, ViewWhoseSilhouetteTouchesTheBorderIsLeftOutOfTheHull) {
 TEST(StereoJobTest, FailureIsDataAndLeavesNoModel) {
   const std::filesystem::path& input = SmallStills();
   silnet::testing::TempDir out;
-  StereoJobConfig config;
-  config.input = input;
-  config.calibration = input / "calibration.yaml";
-  config.output = out.path();
+  StereoJobConfig config = ConfigFor(input, out.path());
   Progress progress("stereo", 0);
   progress.Cancel();
   const StereoJobResult result = RunStereoJob(config, &progress);
