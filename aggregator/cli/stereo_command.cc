@@ -17,6 +17,7 @@ struct StereoArgs {
   int still = 0;
   double lambda = StereoGraphCutDefaults().lambda;
   double ballooning = StereoGraphCutDefaults().ballooning;
+  int silhouette_rounds = StereoGraphCutDefaults().silhouette_rounds;
   int threads = 0;
 };
 
@@ -32,6 +33,7 @@ int RunStereo(const StereoArgs& args) {
   config.still = args.still;
   config.graph_cut.lambda = args.lambda;
   config.graph_cut.ballooning = args.ballooning;
+  config.graph_cut.silhouette_rounds = args.silhouette_rounds;
   config.threads = args.threads;
   const auto run =
       RunWithProgress("stereo", [&](Progress* progress) { return RunStereoJob(config, progress); });
@@ -79,6 +81,11 @@ Command AddStereoCommand(CLI::App& app) {
                   "photo-consistency cost exp(-lambda * votes) of the graph cut (> 0)")
       ->capture_default_str();
   cmd->add_option("--ballooning", args->ballooning, "volume reward per interior cell (>= 0)")
+      ->capture_default_str();
+  cmd->add_option("--silhouette-rounds", args->silhouette_rounds,
+                  "silhouette steps: re-cuts that cover the silhouette pixels the model misses "
+                  "(0 = the plain cut)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "threads (0 = all cores)")->capture_default_str();
   return {cmd, [args] { return RunStereo(*args); }};

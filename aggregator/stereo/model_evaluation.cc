@@ -206,27 +206,33 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
   return result;
 }
 
+cv::Mat InnerSilhouettePixels(const cv::Mat& mask, double margin_px) {
+  SILNET_CHECK(mask.type() == CV_8UC1);
+  cv::Mat depth_in;
+  cv::distanceTransform(mask != 0, depth_in, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+  return depth_in >= margin_px + 0.5;
+}
+
 SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, const cv::Mat& mask,
                                                    double margin_px) {
   SILNET_CHECK(rendered.type() == CV_8UC1 && mask.type() == CV_8UC1);
   SILNET_CHECK(rendered.size() == mask.size());
-  cv::Mat inside = mask != 0, outside = mask == 0;
-  cv::Mat depth_in, depth_out;
-  cv::distanceTransform(inside, depth_in, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
-  cv::distanceTransform(outside, depth_out, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+  const cv::Mat inner = InnerSilhouettePixels(mask, margin_px);
+  cv::Mat depth_out;
+  cv::distanceTransform(mask == 0, depth_out, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
   const float threshold = static_cast<float>(margin_px + 0.5);
   SilhouetteConsistency result;
   for (int y = 0; y < mask.rows; ++y) {
     const uint8_t* m = mask.ptr<uint8_t>(y);
     const uint8_t* r = rendered.ptr<uint8_t>(y);
-    const float* din = depth_in.ptr<float>(y);
+    const uint8_t* in = inner.ptr<uint8_t>(y);
     const float* dout = depth_out.ptr<float>(y);
     for (int x = 0; x < mask.cols; ++x) {
       const bool covered = r[x] != 0;
       if (m[x] != 0) {
         ++result.silhouette_pixels;
         if (!covered) ++result.missed_pixels;
-        if (din[x] >= threshold) {
+        if (in[x] != 0) {
           ++result.inner_pixels;
           if (!covered) ++result.missed_inner;
         }

@@ -105,6 +105,11 @@ struct SilhouetteConsistency {
 // Default margin of the consistency counts (issue 17: "1 px inside / outside the outline").
 inline constexpr double kSilhouetteMarginPx = 1.0;
 
+// The pixels of `mask` (CV_8UC1, non-zero = silhouette) whose centres lie at least
+// `margin_px` inside its outline, which runs half a pixel beyond the outermost silhouette
+// pixel centres: CV_8UC1, 255 there, 0 elsewhere.
+cv::Mat InnerSilhouettePixels(const cv::Mat& mask, double margin_px = kSilhouetteMarginPx);
+
 // Compares a coverage image (CV_8UC1, non-zero = covered) with a mask (CV_8UC1, non-zero =
 // silhouette) of the same size; CheckError otherwise.
 SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, const cv::Mat& mask,

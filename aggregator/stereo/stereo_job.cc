@@ -134,6 +134,7 @@ VolumetricGraphCutOptions StereoGraphCutDefaults() {
   VolumetricGraphCutOptions options;
   options.lambda = 3.0;
   options.ballooning = 0.1;
+  options.silhouette_rounds = 4;
   return options;
 }
 
@@ -194,8 +195,8 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   if (progress) progress->Restart("visual hull", 1);
   // A silhouette cut by the image border does not bound the subject: such views are left out
   // of the hull (their photographs still vote).
-  std::vector<CameraModel> hull_cameras;
-  std::vector<cv::Mat> hull_masks;
+  CutSilhouettes hull_views;  // the views the hull, and so the constraints, come from
+  std::vector<CameraModel>& hull_cameras = hull_views.cameras;
   for (const StereoView& view : views.views) {
     if (TouchesBorder(view.mask)) {
       result.warnings.push_back(view.camera.id +
@@ -204,14 +205,14 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
       continue;
     }
     hull_cameras.push_back(view.camera);
-    hull_masks.push_back(view.mask);
+    hull_views.masks.push_back(view.mask);
   }
   PolyhedralHullResult hull;
   if (hull_cameras.size() < 2) {
     hull.reason = fmt::format("{} of {} silhouettes lie inside their image, at least 2 needed",
                               hull_cameras.size(), views.views.size());
   } else {
-    hull = ComputePolyhedralHull(hull_cameras, hull_masks);
+    hull = ComputePolyhedralHull(hull_cameras, hull_views.masks);
   }
   result.seconds.hull = SecondsSince(stage);
   if (!hull.success || hull.mesh.triangles.empty()) {
@@ -246,7 +247,8 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   stage = Clock::now();
   if (progress) progress->Restart("graph cut", 1);
   const VolumetricGraphCutResult cut =
-      VolumetricGraphCut(votes.volume, hull.mesh, config.graph_cut);
+      VolumetricGraphCut(votes.volume, hull.mesh, config.graph_cut, &hull_views);
+  spdlog::info("{}", cut.stats.Brief());
   result.seconds.graph_cut = SecondsSince(stage);
   result.graph_cut = cut.stats;
   if (progress) progress->Advance();
@@ -292,7 +294,11 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
   fs << "success" << static_cast<int>(result.success);
   if (!result.success) fs << "reason" << result.reason;
   fs << "method"
-     << "baseline volumetric graph cut (thesis 5.4.1), no silhouette constraints";
+     << fmt::format("volumetric graph cut (thesis 5.4.1){}",
+                    config.graph_cut.silhouette_rounds > 0
+                        ? fmt::format(", up to {} silhouette steps (7.4.2)",
+                                      config.graph_cut.silhouette_rounds)
+                        : "");
   const PhotoConsistencyOptions& photo = config.photo_consistency;
   const VolumetricGraphCutOptions& cut = config.graph_cut;
   fs << "settings"
@@ -319,7 +325,8 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
      << "{"
      << "hull_cells" << AsInt(g.hull_cells) << "pocket_cells" << AsInt(g.pocket_cells) << "nodes"
      << AsInt(g.nodes) << "n_links" << AsInt(g.n_links) << "t_link_faces" << AsInt(g.t_link_faces)
-     << "interior_cells" << AsInt(g.interior_cells) << "graph_bytes"
+     << "interior_cells" << AsInt(g.interior_cells) << "silhouette_rounds" << g.silhouette_rounds
+     << "forced_cells" << AsInt(g.forced_cells) << "graph_bytes"
      << static_cast<double>(g.graph_bytes) << "lattice_bytes"
      << static_cast<double>(g.lattice_bytes) << "cut_cost" << g.cut_cost << "}";
   const StereoStageTimes& s = result.seconds;

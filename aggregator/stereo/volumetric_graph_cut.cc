@@ -2,7 +2,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 
+#include "aggregator/stereo/silhouette_repair.h"
 #include "aggregator/stereo/stereo_graph.h"
 #include "shared/util/check.h"
 
@@ -13,6 +15,46 @@ using Clock = std::chrono::steady_clock;
 
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Calls fn(n) for the in-grid neighbours n of cell `c` of `grid`: the 6 that share a face,
+// or with `all` the 26 that share a face, edge or corner.
+template <typename Fn>
+void ForEachNeighbour(const VoxelGrid& grid, size_t c, bool all, Fn&& fn) {
+  const auto nx = static_cast<size_t>(grid.dims[0]), ny = static_cast<size_t>(grid.dims[1]);
+  const auto i = static_cast<int>(c % nx), j = static_cast<int>((c / nx) % ny),
+             k = static_cast<int>(c / (nx * ny));
+  for (int dk = -1; dk <= 1; ++dk)
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) {
+        const int steps = std::abs(di) + std::abs(dj) + std::abs(dk);
+        if (steps == 0 || (!all && steps > 1) || !grid.InGrid(i + di, j + dj, k + dk)) continue;
+        fn(grid.Index(i + di, j + dj, k + dk));
+      }
+}
+
+// The graph of stereo_graph.h: builds, solves and labels into result.interior.
+void CutLattice(const StereoLattice& lattice, const VoteVolume& votes,
+                const VolumetricGraphCutOptions& options, VolumetricGraphCutResult& result) {
+  VolumetricGraphCutStats& stats = result.stats;
+  auto start = Clock::now();
+  StereoGraph graph = BuildStereoGraph(lattice, votes, options.lambda, options.ballooning);
+  stats.seconds_build += SecondsSince(start);
+  stats.nodes = lattice.free_cells;
+  stats.n_links = graph.n_links;
+  stats.t_link_faces = graph.source_faces + graph.sink_faces;
+  stats.graph_bytes = graph.graph.MemoryBytes();
+  start = Clock::now();
+  stats.cut_cost = graph.graph.Solve() + graph.forced_cost;
+  stats.seconds_max_flow += SecondsSince(start);
+  start = Clock::now();
+  for (size_t c = 0; c < lattice.roles.size(); ++c) {
+    const bool inside =
+        lattice.roles[c] == CellRole::kPocket ||
+        (lattice.roles[c] == CellRole::kFree && graph.graph.IsSourceSide(graph.node_of_cell[c]));
+    result.interior.occupied[c] = inside ? 1 : 0;
+  }
+  stats.seconds_labels += SecondsSince(start);
 }
 
 }  // namespace
@@ -27,6 +69,8 @@ bool VolumetricGraphCutOptions::IsValid(std::string* reason) const {
     return fail("inner_offset_fraction must lie in (0, 1)");
   if (!(inner_offset_cells >= 0)) return fail("inner_offset_cells must be >= 0");
   if (!(ballooning >= 0)) return fail("ballooning must be >= 0");
+  if (silhouette_rounds < 0) return fail("silhouette_rounds must be >= 0");
+  if (!(silhouette_margin_px >= 0)) return fail("silhouette_margin_px must be >= 0");
   std::string why;
   if (!surface.IsValid(&why)) return fail("surface: " + why);
   return true;
@@ -43,11 +87,22 @@ std::string VolumetricGraphCutStats::Brief() const {
                 max_depth_cells, inner_offset_cells, cut_cost, graph_bytes / 1e6,
                 lattice_bytes / 1e6, seconds_distance, seconds_build, seconds_max_flow,
                 seconds_labels, seconds_surface, surface_triangles);
-  return line;
+  std::string brief = line;
+  if (!missed_pixels_per_round.empty()) {
+    brief += "; silhouette step: " + std::to_string(silhouette_rounds) + " rounds, " +
+             std::to_string(forced_cells) + " cells forced, missed inner pixels";
+    for (size_t missed : missed_pixels_per_round)
+      brief += " " + std::to_string(missed);
+    char seconds[48];
+    std::snprintf(seconds, sizeof(seconds), " (%.3f s)", seconds_silhouette_step);
+    brief += seconds;
+  }
+  return brief;
 }
 
 VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const VoxelGrid& hull,
-                                            const VolumetricGraphCutOptions& options) {
+                                            const VolumetricGraphCutOptions& options,
+                                            const CutSilhouettes* silhouettes) {
   std::string reason;
   SILNET_CHECK_MSG(options.IsValid(&reason), reason);
   SILNET_CHECK_MSG(SameLattice(hull, votes), "hull grid is not on the vote lattice");
@@ -62,7 +117,6 @@ VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const Voxel
   stats.seconds_distance = SecondsSince(start);
   stats.hull_cells = lattice.hull_cells;
   stats.pocket_cells = lattice.pocket_cells;
-  stats.nodes = lattice.free_cells;
   stats.max_depth_cells = lattice.max_depth_cells;
   stats.inner_offset_cells = lattice.inner_offset_cells;
   if (lattice.hull_cells == 0) {
@@ -78,44 +132,67 @@ VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const Voxel
     return result;
   }
 
-  start = Clock::now();
-  StereoGraph graph = BuildStereoGraph(lattice, votes, options.lambda, options.ballooning);
-  stats.seconds_build = SecondsSince(start);
-  stats.n_links = graph.n_links;
-  stats.t_link_faces = graph.source_faces + graph.sink_faces;
-  stats.graph_bytes = graph.graph.MemoryBytes();
   // Roles, node index, labels, and the distance transform's floats (freed before the build).
   stats.lattice_bytes =
       lattice.roles.size() * (sizeof(CellRole) + sizeof(int32_t) + 1 + sizeof(float));
-
-  start = Clock::now();
-  stats.cut_cost = graph.graph.Solve() + graph.forced_cost;
-  stats.seconds_max_flow = SecondsSince(start);
-
-  start = Clock::now();
-  result.interior = VoxelGrid::Empty(votes.origin, votes.cell_size, votes.dims);
-  for (size_t c = 0; c < lattice.roles.size(); ++c) {
-    const bool inside =
-        lattice.roles[c] == CellRole::kPocket ||
-        (lattice.roles[c] == CellRole::kFree && graph.graph.IsSourceSide(graph.node_of_cell[c]));
-    result.interior.occupied[c] = inside ? 1 : 0;
-    stats.interior_cells += inside ? 1 : 0;
+  SILNET_CHECK_MSG(silhouettes != nullptr || options.silhouette_rounds == 0,
+                   "the silhouette step needs the silhouettes");
+  // One cut of `roles` into result.interior and result.surface; times add up over rounds.
+  const auto solve = [&](const StereoLattice& roles) {
+    result.interior = VoxelGrid::Empty(votes.origin, votes.cell_size, votes.dims);
+    CutLattice(roles, votes, options, result);
+    if (options.extract_surface || options.silhouette_rounds > 0) {
+      const auto surface_start = Clock::now();
+      result.surface = ExtractCutSurface(result.interior, options.surface);
+      stats.seconds_surface += SecondsSince(surface_start);
+    }
+  };
+  solve(lattice);
+  if (options.silhouette_rounds > 0) {
+    StereoLattice forced = lattice;
+    for (int round = 0; round < options.silhouette_rounds; ++round) {
+      start = Clock::now();
+      const SilhouetteRepair repair =
+          FindSilhouetteRepair(result.surface, hull, votes, silhouettes->cameras,
+                               silhouettes->masks, options.silhouette_margin_px);
+      stats.seconds_silhouette_step += SecondsSince(start);
+      stats.missed_pixels_per_round.push_back(repair.missed_pixels);
+      size_t added = 0;
+      const auto force = [&forced, &added](size_t c) {
+        if (forced.roles[c] != CellRole::kFree) return;
+        forced.roles[c] = CellRole::kPocket;
+        --forced.free_cells;
+        ++forced.pocket_cells;
+        ++added;
+      };
+      for (size_t c : repair.cells) {
+        // A cell forced before whose pixel is still missed was smoothed away (a lone cell,
+        // a thin line): its face neighbours in the hull join it, then its 26 neighbours.
+        if (forced.roles[c] == CellRole::kFree) {
+          force(c);
+          continue;
+        }
+        const size_t before = added;
+        ForEachNeighbour(hull, c, false, force);
+        if (added == before) ForEachNeighbour(hull, c, true, force);
+      }
+      stats.forced_cells += added;
+      if (added == 0) break;
+      ++stats.silhouette_rounds;
+      solve(forced);
+    }
   }
-  stats.seconds_labels = SecondsSince(start);
-
-  if (options.extract_surface) {
-    start = Clock::now();
-    result.surface = ExtractCutSurface(result.interior, options.surface);
-    stats.seconds_surface = SecondsSince(start);
-    stats.surface_triangles = result.surface.triangles.size();
-  }
+  for (uint8_t inside : result.interior.occupied)
+    stats.interior_cells += inside;
+  stats.surface_triangles = result.surface.triangles.size();
   result.success = true;
   return result;
 }
 
 VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const TriangleMesh& hull,
-                                            const VolumetricGraphCutOptions& options) {
-  return VolumetricGraphCut(votes, HullOnLattice(hull, votes), options);
+                                            const VolumetricGraphCutOptions& options,
+                                            const CutSilhouettes* silhouettes) {
+  return VolumetricGraphCut(votes, HullOnLattice(hull, votes), options, silhouettes);
 }
 
 }  // namespace silnet::aggregator

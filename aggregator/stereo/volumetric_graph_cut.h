@@ -4,16 +4,21 @@
 // photo-consistency cost exp(-lambda * votes) of 6.8.1, among the surfaces between the visual
 // hull and an inner offset surface. Stages: the hull's distance transform and the lattice's
 // roles, the flow graph (stereo_graph.h), Boykov-Kolmogorov max flow (max_flow.h), the labels,
-// and the surface of the interior cells (surface_extraction.h). Silhouette constraints are not
-// enforced here; the exact formulation of ch. 6 builds on these parts.
+// and the surface of the interior cells (surface_extraction.h). Silhouette steps (thesis
+// 7.4.2, silhouette_repair.h) then tie a cell to the source for every silhouette pixel the
+// surface misses and solve again, until the model covers its silhouettes. (The exact
+// constraints of 6.4-6.7, Formulation I and II, are not built yet.)
 
 #include <cstddef>
+#include <opencv2/core/mat.hpp>
 #include <string>
+#include <vector>
 
 #include "aggregator/hulls/triangle_mesh.h"
 #include "aggregator/hulls/voxel_grid.h"
 #include "aggregator/stereo/surface_extraction.h"
 #include "aggregator/stereo/vote_volume.h"
+#include "shared/geometry/camera_model.h"
 
 namespace silnet::aggregator {
 
@@ -24,18 +29,31 @@ struct VolumetricGraphCutOptions {
   double inner_offset_cells = 0;       // > 0: fixed inner offset depth in cells instead of T
   double ballooning = 0;               // volume reward per interior cell (5.4.1), >= 0
   bool extract_surface = true;         // also build the surface mesh
+  int silhouette_rounds = 0;           // silhouette steps (thesis 7.4.2), >= 0
+  double silhouette_margin_px = 1.0;   // pixels this far inside the outline must be covered
   SurfaceExtractionOptions surface;
 
   // True if the options make sense; otherwise false with a reason.
   bool IsValid(std::string* reason) const;
 };
 
+// The silhouettes the silhouette step makes the cut consistent with: undistorted cameras
+// (those the hull was built from) and one mask each (CV_8UC1, non-zero = silhouette).
+struct CutSilhouettes {
+  std::vector<CameraModel> cameras;
+  std::vector<cv::Mat> masks;
+};
+
 // Sizes and times of one run.
 struct VolumetricGraphCutStats {
+  int silhouette_rounds = 0;                    // silhouette steps that re-solved the cut
+  size_t forced_cells = 0;                      // cells they tied to the source
+  std::vector<size_t> missed_pixels_per_round;  // inner pixels missed before each step
+  double seconds_silhouette_step = 0;           // projecting and choosing cells
   size_t lattice_cells = 0;
   size_t hull_cells = 0;
   size_t pocket_cells = 0;        // tied to the source
-  size_t nodes = 0;               // free cells: graph nodes
+  size_t nodes = 0;               // free cells: graph nodes (of the last round)
   size_t n_links = 0;             // edges between nodes (two arcs each)
   size_t t_link_faces = 0;        // faces of nodes with pocket or outside cells
   double max_depth_cells = 0;     // d_max of the hull
@@ -45,10 +63,10 @@ struct VolumetricGraphCutStats {
   size_t graph_bytes = 0;         // max-flow library's nodes and arcs
   size_t lattice_bytes = 0;       // roles, node index, labels, distances
   double seconds_distance = 0;    // distance transform and roles
-  double seconds_build = 0;       // flow graph
-  double seconds_max_flow = 0;    // Boykov-Kolmogorov
-  double seconds_labels = 0;      // interior grid from the cut
-  double seconds_surface = 0;     // surface mesh
+  double seconds_build = 0;       // flow graph (all rounds)
+  double seconds_max_flow = 0;    // Boykov-Kolmogorov (all rounds)
+  double seconds_labels = 0;      // interior grid from the cut (all rounds)
+  double seconds_surface = 0;     // surface mesh (all rounds)
   size_t surface_triangles = 0;
 
   // One line with the sizes and times, for logs.
@@ -65,14 +83,16 @@ struct VolumetricGraphCutResult {
 };
 
 // Runs the cut of `votes` inside `hull` (occupancy on exactly the votes' lattice; CheckError
-// otherwise, and for invalid options). An empty hull, or one with no cell deeper than the
-// inner offset, is reported as a failure.
+// otherwise, for invalid options, and for silhouette steps without `silhouettes`). An
+// empty hull, or one with no cell deeper than the inner offset, is reported as a failure.
 VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const VoxelGrid& hull,
-                                            const VolumetricGraphCutOptions& options);
+                                            const VolumetricGraphCutOptions& options,
+                                            const CutSilhouettes* silhouettes = nullptr);
 
 // The same with the hull as a closed mesh (e.g. the polyhedral visual hull), voxelised on the
 // votes' lattice (cells whose centres lie inside it).
 VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const TriangleMesh& hull,
-                                            const VolumetricGraphCutOptions& options);
+                                            const VolumetricGraphCutOptions& options,
+                                            const CutSilhouettes* silhouettes = nullptr);
 
 }  // namespace silnet::aggregator
