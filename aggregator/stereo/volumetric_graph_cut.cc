@@ -1,5 +1,8 @@
 #include "aggregator/stereo/volumetric_graph_cut.h"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -89,13 +92,11 @@ std::string VolumetricGraphCutStats::Brief() const {
                 seconds_labels, seconds_surface, surface_triangles);
   std::string brief = line;
   if (!missed_pixels_per_round.empty()) {
-    brief += "; silhouette step: " + std::to_string(silhouette_rounds) + " rounds, " +
-             std::to_string(forced_cells) + " cells forced, missed inner pixels";
-    for (size_t missed : missed_pixels_per_round)
-      brief += " " + std::to_string(missed);
-    char seconds[48];
-    std::snprintf(seconds, sizeof(seconds), " (%.3f s)", seconds_silhouette_step);
-    brief += seconds;
+    brief += fmt::format(
+        "; silhouette step: {} rounds, {} cells forced, missed inner pixels {} "
+        "({:.3f} s)",
+        silhouette_rounds, forced_cells, fmt::join(missed_pixels_per_round, " "),
+        seconds_silhouette_step);
   }
   return brief;
 }
