@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
+#include <utility>
 
 #include "aggregator/hulls/hull_reprojection.h"
 #include "aggregator/stereo/model_evaluation.h"
