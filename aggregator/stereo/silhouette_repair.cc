@@ -43,29 +43,28 @@ std::optional<size_t> CellForRay(const VoxelGrid& hull, const VoteVolume& votes,
   // The first run through the hull: its first and last sample.
   double run_start = -1, run_end = -1;
   bool run_closed = false;
+  // The lattice cell at ray depth t (the hull shares the votes' lattice).
+  const auto cell_at = [&](double t) -> std::optional<size_t> {
+    const auto ijk = votes.CellOf(centre + t * direction);
+    if (!ijk) return std::nullopt;
+    return votes.Index((*ijk)[0], (*ijk)[1], (*ijk)[2]);
+  };
   for (double t = range->first + 0.5 * step; t < range->second; t += step) {
-    const Eigen::Vector3d q = (centre + t * direction - hull.origin) / hull.voxel_size;
-    const int i = static_cast<int>(std::floor(q.x())), j = static_cast<int>(std::floor(q.y())),
-              k = static_cast<int>(std::floor(q.z()));
-    const bool inside = hull.IsOccupied(i, j, k);
-    if (!inside) {
+    const std::optional<size_t> c = cell_at(t);
+    if (!c || hull.occupied[*c] == 0) {
       run_closed = run_closed || run_start >= 0;
       continue;
     }
     if (run_start < 0) run_start = t;
     if (!run_closed) run_end = t;
-    const size_t c = hull.Index(i, j, k);
-    if (votes.votes[c] > best_votes) {
-      best_votes = votes.votes[c];
-      best = c;
+    if (votes.votes[*c] > best_votes) {
+      best_votes = votes.votes[*c];
+      best = *c;
     }
   }
   if (best) return best;
   if (run_start < 0) return std::nullopt;
-  const Eigen::Vector3d q =
-      (centre + 0.5 * (run_start + run_end) * direction - hull.origin) / hull.voxel_size;
-  return hull.Index(static_cast<int>(std::floor(q.x())), static_cast<int>(std::floor(q.y())),
-                    static_cast<int>(std::floor(q.z())));
+  return cell_at(0.5 * (run_start + run_end));
 }
 
 }  // namespace
