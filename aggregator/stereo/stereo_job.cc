@@ -12,7 +12,10 @@
 #include "aggregator/hulls/mesh_measure.h"
 #include "aggregator/hulls/ply_io.h"
 #include "aggregator/hulls/polyhedral_hull.h"
+#include "aggregator/report/stereo_report.h"
+#include "aggregator/stereo/model_render.h"
 #include "aggregator/stereo/stills_folder.h"
+#include "shared/io/png_writer.h"
 #include "shared/io/point_cloud_ply.h"
 #include "shared/util/check.h"
 
@@ -122,6 +125,22 @@ void WriteMesh(cv::FileStorage& fs, const std::string& name, const StereoMeshSum
   fs << "}";
 }
 
+// Writes views/<camera>.png (ViewComparisonPanel) for every view and returns their paths
+// relative to `output`.
+std::vector<std::string> WriteViewPictures(const std::filesystem::path& output,
+                                           const std::vector<StereoView>& views,
+                                           const TriangleMesh& model, Progress* progress) {
+  std::filesystem::create_directories(output / "views");
+  std::vector<std::string> pictures;
+  for (const StereoView& view : views) {
+    const std::string file = fmt::format("views/{}.png", view.camera.id);
+    WritePngFast(output / file, ViewComparisonPanel(view, model, kViewPicturePanelWidth));
+    pictures.push_back(file);
+    if (progress) progress->Advance();
+  }
+  return pictures;
+}
+
 // True if any pixel of the outermost rows or columns of `mask` is silhouette.
 bool TouchesBorder(const cv::Mat& mask) {
   return cv::countNonZero(mask.row(0)) > 0 || cv::countNonZero(mask.row(mask.rows - 1)) > 0 ||
@@ -167,9 +186,11 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   StereoJobResult result;
   std::filesystem::create_directories(config.output);
   std::filesystem::remove(config.output / "model.ply");
+  std::filesystem::remove_all(config.output / "views");
   const auto finish = [&]() {
     result.seconds.total = SecondsSince(start);
     WriteStereoSummary(config, result);
+    WriteStereoReport(config, result);
     if (progress) progress->Finish();
     if (!result.success) spdlog::warn("stereo: no model: {}", result.reason);
     return result;
@@ -280,6 +301,12 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
 
   result.model.file = "model.ply";
   WritePlyMesh((config.output / result.model.file).string(), cut.surface);
+
+  // Pictures.
+  stage = Clock::now();
+  if (progress) progress->Restart("pictures", views.views.size());
+  result.view_pictures = WriteViewPictures(config.output, views.views, cut.surface, progress);
+  result.seconds.pictures = SecondsSince(stage);
   result.success = true;
   return finish();
 }
@@ -333,7 +360,8 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
   fs << "seconds"
      << "{"
      << "load" << s.load << "hull" << s.hull << "photo_consistency" << s.photo_consistency
-     << "graph_cut" << s.graph_cut << "evaluation" << s.evaluation << "total" << s.total << "}";
+     << "graph_cut" << s.graph_cut << "evaluation" << s.evaluation << "pictures" << s.pictures
+     << "total" << s.total << "}";
   WriteMesh(fs, "hull", result.hull);
   WriteMesh(fs, "model", result.model);
   fs << "silhouettes"

@@ -17,6 +17,9 @@
 //   stereo.yaml  settings, lattice and graph sizes, time per stage, per view silhouette
 //                figures, the measures against the truth; written also after a failure,
 //                with its reason
+//   views/<camera>.png  per view: the photo, the model shaded from that camera and its
+//                silhouette comparison side by side (model_render.h), when there is a model
+//   report.html  all of the above for people (stereo_report.h), also after a failure
 // Expected failures (no hull, no votes, a cut that is empty or not a closed manifold,
 // cancellation) are data: success false with a reason, and no model.ply (one left by an
 // earlier run in OUT is removed first).
@@ -56,7 +59,8 @@ struct StereoJobConfig {
 
 // Seconds per stage.
 struct StereoStageTimes {
-  double load = 0, hull = 0, photo_consistency = 0, graph_cut = 0, evaluation = 0, total = 0;
+  double load = 0, hull = 0, photo_consistency = 0, graph_cut = 0, evaluation = 0, pictures = 0,
+         total = 0;
 };
 
 // A mesh's figures in stereo.yaml.
@@ -82,13 +86,17 @@ struct StereoJobResult {
   double cell_size = 0;                         // metres
   VolumetricGraphCutStats graph_cut;
   StereoStageTimes seconds;
+  std::vector<std::string> view_pictures;  // views/<camera>.png, relative to the output folder
 };
+
+// Width in pixels of each of the three panels of a view picture (smaller images are kept).
+inline constexpr int kViewPicturePanelWidth = 480;
 
 // Runs the job. Throws InputError for invalid settings and for what LoadStillsFolder rejects
 // (unreadable calibration, a camera without any silhouette source, too few views), and if
 // an output file cannot be written. `progress` (may be null) gets one stage after the other
-// ("load", "visual hull", "photo-consistency", "graph cut", "evaluation") and is polled for
-// cancellation between and within stages.
+// ("load", "visual hull", "photo-consistency", "graph cut", "evaluation", "pictures") and is polled
+// for cancellation between and within stages.
 StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress);
 
 // Writes OUT/stereo.yaml for `result` (config.output is OUT). Throws InputError if it cannot

@@ -6,6 +6,7 @@
 
 #include "aggregator/stereo/stereo_job.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -13,16 +14,20 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <opencv2/core.hpp>
 #include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <random>
 
 #include "aggregator/hulls/hull_reprojection.h"
 #include "aggregator/hulls/mesh_check.h"
 #include "aggregator/hulls/ply_io.h"
 #include "aggregator/stereo/model_evaluation.h"
+#include "aggregator/stereo/model_render.h"
 #include "aggregator/stereo/nearest_point.h"
 #include "shared/util/check.h"
 #include "sim/stills_generator.h"
@@ -150,16 +155,29 @@ cv::Mat SphereMask(const CameraModel& camera, const Eigen::Vector3d& centre, dou
   return mask;
 }
 
+// A camera 320x240 at `position` looking at kCentre.
+CameraModel CameraLookingAtCentre(const Eigen::Vector3d& position) {
+  CameraModel camera;
+  camera.id = "cam";
+  camera.width = 320;
+  camera.height = 240;
+  camera.K << 400, 0, 159.5, 0, 400, 119.5, 0, 0, 1;
+  camera.R = LookAtRotation(position, kCentre, Eigen::Vector3d(0, 0, 1));
+  camera.t = -camera.R * position;
+  return camera;
+}
+
+// Grey level of a BGR pixel.
+int Brightness(const cv::Mat& image, const Eigen::Vector2d& pixel) {
+  const cv::Vec3b bgr = image.at<cv::Vec3b>(static_cast<int>(std::lround(pixel.y())),
+                                            static_cast<int>(std::lround(pixel.x())));
+  return (bgr[0] + bgr[1] + bgr[2]) / 3;
+}
+
 TEST(ModelEvaluationTest, SphereMeshIsConsistentWithItsExactSilhouette) {
   const double radius = 0.1;
   StereoView view;
-  view.camera.id = "cam";
-  view.camera.width = 320;
-  view.camera.height = 240;
-  view.camera.K << 400, 0, 159.5, 0, 400, 119.5, 0, 0, 1;
-  const Eigen::Vector3d centre(0.7, 0.1, 0.4);
-  view.camera.R = LookAtRotation(centre, kCentre, Eigen::Vector3d(0, 0, 1));
-  view.camera.t = -view.camera.R * centre;
+  view.camera = CameraLookingAtCentre(Eigen::Vector3d(0.7, 0.1, 0.4));
   view.mask = SphereMask(view.camera, kCentre, radius);
 
   const TriangleMesh sphere = Icosphere(kCentre, radius, 5);
@@ -187,6 +205,44 @@ TEST(ModelEvaluationTest, SphereMeshIsConsistentWithItsExactSilhouette) {
   EXPECT_EQ(smaller.covered_outer, 0u);
 }
 
+TEST(ModelRenderTest, ShadedRenderCoversTheSilhouetteAndHidesFartherSurfaces) {
+  const CameraModel camera = CameraLookingAtCentre(Eigen::Vector3d(0.7, 0.1, 0.4));
+  const TriangleMesh sphere = Icosphere(kCentre, 0.1, 5);
+  const cv::Mat shaded = RenderShadedMesh(sphere, camera);
+  ASSERT_EQ(shaded.type(), CV_8UC3);
+  ASSERT_EQ(shaded.size(), cv::Size(320, 240));
+  // Drawn pixels: the mesh's silhouette up to a pixel along its outline.
+  cv::Mat gray;
+  cv::cvtColor(shaded, gray, cv::COLOR_BGR2GRAY);
+  const cv::Mat drawn = gray != 45;
+  const cv::Mat coverage = RenderMeshSilhouette(sphere, camera);
+  cv::Mat inner, outer;
+  cv::erode(coverage, inner, cv::Mat());
+  cv::dilate(coverage, outer, cv::Mat());
+  EXPECT_GT(cv::countNonZero(coverage), 5000);
+  EXPECT_EQ(cv::countNonZero(inner & ~drawn), 0);
+  EXPECT_EQ(cv::countNonZero(drawn & ~outer), 0);
+  // Facing the camera is bright, grazing the outline dark.
+  const Eigen::Vector2d centre = *camera.Project(kCentre);
+  EXPECT_GT(Brightness(shaded, centre), 150);
+
+  // A small sphere on the ray through the big one's grazing rim, nearer the camera: its
+  // facing centre hides the dark rim whatever order the triangles come in.
+  const Eigen::Vector3d towards_camera = (camera.Center() - kCentre).normalized();
+  const Eigen::Vector3d sideways = towards_camera.cross(Eigen::Vector3d(0, 0, 1)).normalized();
+  const Eigen::Vector3d rim = kCentre + 0.098 * sideways;
+  const Eigen::Vector3d small_centre = camera.Center() + 0.7 * (rim - camera.Center());
+  TriangleMesh both = Icosphere(small_centre, 0.02, 4);
+  const auto offset = static_cast<int32_t>(both.vertices.size());
+  for (const auto& v : sphere.vertices)
+    both.vertices.push_back(v);
+  for (const auto& t : sphere.triangles)
+    both.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  const Eigen::Vector2d pixel = *camera.Project(rim);
+  EXPECT_LT(Brightness(shaded, pixel), 120);
+  EXPECT_GT(Brightness(RenderShadedMesh(both, camera), pixel), 150);
+}
+
 // Small stills, made once: 8 cameras at 480x360 (at 320x240 the baseline cut's model is
 // less accurate than the hull; docs/PERFORMANCE.md).
 const std::filesystem::path& SmallStills() {
@@ -201,6 +257,11 @@ const std::filesystem::path& SmallStills() {
   }();
   EXPECT_TRUE(made);
   return dir.path();
+}
+
+std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 // The job's settings for stills in `input` (with their calibration.yaml) written to `output`.
@@ -262,6 +323,19 @@ TEST(StereoJobTest, SimulatedStillsGiveAClosedModelMoreAccurateThanTheHull) {
               1e-9);
   EXPECT_NEAR(static_cast<double>(fs["model"]["evaluation"]["completeness"][1]["fraction"]),
               model.completeness[1].fraction, 1e-9);
+
+  // One picture per view, three equal panels (photo | render | silhouette comparison), and
+  // the report links them all.
+  const std::string report = ReadText(out / "report.html");
+  EXPECT_NE(report.find("closed and manifold"), std::string::npos);
+  ASSERT_EQ(result.view_pictures.size(), 8u);
+  for (const std::string& file : result.view_pictures) {
+    const cv::Mat picture = cv::imread((out / file).string(), cv::IMREAD_COLOR);
+    ASSERT_FALSE(picture.empty()) << file;
+    EXPECT_EQ(picture.cols % 3, 0) << file;
+    EXPECT_GT(picture.rows, 100) << file;
+    EXPECT_NE(report.find(fmt::format("src=\"{}\"", file)), std::string::npos) << file;
+  }
 }
 
 // The configuration: a ring of 16 cameras at 640x480. The silhouette step makes the
@@ -336,6 +410,8 @@ TEST(StereoJobTest, FailureIsDataAndLeavesNoModel) {
   EXPECT_FALSE(std::filesystem::exists(out / "model.ply"));
   cv::FileStorage fs((out / "stereo.yaml").string(), cv::FileStorage::READ);
   EXPECT_EQ(static_cast<std::string>(fs["reason"]), "cancelled");
+  EXPECT_NE(ReadText(out / "report.html").find("No model: cancelled"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(out / "views"));
 
   config.graph_cut.lambda = 0;
   EXPECT_THROW(RunStereoJob(config, nullptr), InputError);

@@ -1,0 +1,167 @@
+#include "aggregator/report/stereo_report.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <string>
+#include <vector>
+
+#include "aggregator/report/html_table.h"
+
+namespace silnet::aggregator {
+namespace {
+
+const char* const kNone = "\u2014";  // em dash for "no value"
+
+std::string Paragraph(const std::string& text, const char* css_class = nullptr) {
+  return css_class ? fmt::format("<p class=\"{}\">{}</p>\n", css_class, EscapeHtml(text))
+                   : fmt::format("<p>{}</p>\n", EscapeHtml(text));
+}
+
+std::string JobSummary(const StereoJobConfig& config, const StereoJobResult& result) {
+  std::string html;
+  if (result.success) {
+    html += Paragraph(fmt::format(
+        "Model: {} triangles, {} vertices, closed and manifold, from {} views of {} (still {}).",
+        result.model.triangles, result.model.vertices, result.views, config.input.string(),
+        config.still));
+  } else {
+    html += Paragraph(fmt::format("No model: {}", result.reason), "bad");
+  }
+  HtmlTable table(std::vector<std::string>{});
+  table.AddRow({"pixel footprint at the object",
+                result.footprint > 0 ? fmt::format("{:.3f} mm", result.footprint * 1e3) : kNone});
+  table.AddRow({"vote lattice",
+                result.cell_size > 0
+                    ? fmt::format("{} cells of {:.3f} mm", fmt::join(result.lattice_dims, " x "),
+                                  result.cell_size * 1e3)
+                    : kNone});
+  table.AddRow({"total time", fmt::format("{:.1f} s", result.seconds.total)});
+  html += table.ToHtml();
+  if (!result.warnings.empty()) {
+    html += "<ul class=\"bad\">\n";
+    for (const std::string& warning : result.warnings)
+      html += fmt::format("<li>{}</li>\n", EscapeHtml(warning));
+    html += "</ul>\n";
+  }
+  return html;
+}
+
+// Sums of the per view silhouette figures: missed inner and covered outer pixels.
+std::pair<size_t, size_t> SilhouetteTotals(const StereoMeshSummary& mesh) {
+  size_t missed = 0, covered = 0;
+  for (const SilhouetteConsistency& v : mesh.views) {
+    missed += v.missed_inner;
+    covered += v.covered_outer;
+  }
+  return {missed, covered};
+}
+
+std::string MeshTable(const StereoJobResult& result) {
+  HtmlTable table({"mesh", "triangles", "closed manifold", "volume (cm\u00b3)",
+                   "inner silhouette px missed", "outer px covered", "accuracy (90 %)",
+                   "completeness"});
+  const auto add = [&table](const std::string& name, const StereoMeshSummary& m) {
+    if (m.triangles == 0) return;
+    const auto [missed, covered] = SilhouetteTotals(m);
+    std::string accuracy = kNone, completeness = kNone;
+    if (m.evaluation) {
+      accuracy = fmt::format("{:.2f} mm ({:.2f} fp)", m.evaluation->accuracy_m * 1e3,
+                             m.evaluation->accuracy_footprints);
+      std::vector<std::string> within;
+      for (const Completeness& c : m.evaluation->completeness)
+        within.push_back(
+            fmt::format("{:.1f} % within {:g} fp", 100 * c.fraction, c.distance_footprints));
+      completeness = fmt::format("{}", fmt::join(within, ", "));
+    }
+    table.AddRow(
+        {name, std::to_string(m.triangles), m.closed_manifold ? "yes" : "no",
+         fmt::format("{:.1f}", m.volume_m3 * 1e6), m.views.empty() ? kNone : std::to_string(missed),
+         m.views.empty() ? kNone : std::to_string(covered), accuracy, completeness},
+        m.closed_manifold ? "" : "bad");
+  };
+  add("model", result.model);
+  add("visual hull", result.hull);
+  return table.ToHtml("no mesh") +
+         Paragraph(
+             "Silhouette pixels count when their centre lies at least 1 px inside the "
+             "outline (missed) or outside it (covered); an exactly silhouette-consistent "
+             "model has 0 and 0. Accuracy and completeness are measured against the "
+             "simulation's true surface (gt_surface.ply) when the stills have one; fp = "
+             "pixel footprints at the object.",
+             "muted");
+}
+
+std::string StageTable(const StereoJobResult& result) {
+  const StereoStageTimes& s = result.seconds;
+  HtmlTable table({"stage", "seconds"});
+  const std::vector<std::pair<const char*, double>> stages = {
+      {"load", s.load},
+      {"visual hull", s.hull},
+      {"photo-consistency", s.photo_consistency},
+      {"graph cut", s.graph_cut},
+      {"evaluation", s.evaluation},
+      {"pictures", s.pictures},
+      {"total", s.total}};
+  for (const auto& [name, seconds] : stages)
+    table.AddRow({name, fmt::format("{:.2f}", seconds)});
+  return table.ToHtml();
+}
+
+std::string GraphTable(const StereoJobResult& result) {
+  const VolumetricGraphCutStats& g = result.graph_cut;
+  HtmlTable table(std::vector<std::string>{});
+  table.AddRow({"hull cells", fmt::format("{} ({} inner pockets)", g.hull_cells, g.pocket_cells)});
+  table.AddRow({"graph", fmt::format("{} nodes, {} n-links, {:.1f} MB", g.nodes, g.n_links,
+                                     static_cast<double>(g.graph_bytes) / 1e6)});
+  table.AddRow(
+      {"silhouette steps",
+       g.missed_pixels_per_round.empty()
+           ? std::string("none")
+           : fmt::format("{} re-solves, {} cells forced; inner pixels missed per round: {}",
+                         g.silhouette_rounds, g.forced_cells,
+                         fmt::join(g.missed_pixels_per_round, ", "))});
+  table.AddRow({"interior cells", std::to_string(g.interior_cells)});
+  return table.ToHtml();
+}
+
+std::string ViewTable(const StereoJobResult& result) {
+  HtmlTable table({"camera", "silhouette px", "inner px", "missed by model", "missed by hull",
+                   "outer px covered by model", "by hull"});
+  for (size_t v = 0; v < result.model.views.size(); ++v) {
+    const SilhouetteConsistency& m = result.model.views[v];
+    const bool hull = v < result.hull.views.size();
+    table.AddRow({m.camera_id, std::to_string(m.silhouette_pixels), std::to_string(m.inner_pixels),
+                  std::to_string(m.missed_inner),
+                  hull ? std::to_string(result.hull.views[v].missed_inner) : kNone,
+                  std::to_string(m.covered_outer),
+                  hull ? std::to_string(result.hull.views[v].covered_outer) : kNone},
+                 m.missed_inner > 0 || m.covered_outer > 0 ? "warn" : "");
+  }
+  std::string html = table.ToHtml("no view was measured");
+  if (result.view_pictures.empty()) return html;
+  html += Paragraph(
+      "Each view: the photograph, the model shaded from that camera, and the model's coverage "
+      "against the silhouette (white covered, red silhouette missed, blue covered outside it).",
+      "muted");
+  for (const std::string& picture : result.view_pictures) {
+    html += fmt::format(
+        "<figure><img src=\"{0}\" alt=\"{0}\" loading=\"lazy\"><figcaption>{0}"
+        "</figcaption></figure>\n",
+        EscapeHtml(picture));
+  }
+  return html;
+}
+
+}  // namespace
+
+void WriteStereoReport(const StereoJobConfig& config, const StereoJobResult& result) {
+  std::string html = Section("Summary", JobSummary(config, result));
+  html += Section("Model and visual hull", MeshTable(result));
+  html += Section("Stages", StageTable(result));
+  if (result.graph_cut.nodes > 0) html += Section("Graph cut", GraphTable(result));
+  html += Section("Views", ViewTable(result));
+  WriteHtmlPage(config.output / "report.html", "silnet stereo report", html);
+}
+
+}  // namespace silnet::aggregator
