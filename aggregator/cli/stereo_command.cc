@@ -22,7 +22,12 @@ struct StereoArgs {
 };
 
 void PrintEvaluation(const char* name, const StereoMeshSummary& mesh) {
-  if (mesh.evaluation) std::printf("  %s: %s\n", name, mesh.evaluation->Brief().c_str());
+  if (!mesh.evaluation) return;
+  std::printf("  %s: %s\n", name, mesh.evaluation->Brief().c_str());
+  if (mesh.evaluation->region) {
+    std::printf("    concave region (hull > %g fp off), %s\n", kConcaveRegionFootprints,
+                mesh.evaluation->region->Brief().c_str());
+  }
 }
 
 int RunStereo(const StereoArgs& args) {

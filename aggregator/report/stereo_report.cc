@@ -57,6 +57,37 @@ std::pair<size_t, size_t> SilhouetteTotals(const StereoMeshSummary& mesh) {
   return {missed, covered};
 }
 
+// "6.20 mm (1.06 fp)" and "61.0 % within 1 fp, 73.9 % within 2 fp".
+std::string AccuracyText(double metres, double footprints) {
+  return fmt::format("{:.2f} mm ({:.2f} fp)", metres * 1e3, footprints);
+}
+std::string CompletenessText(const std::vector<Completeness>& completeness) {
+  std::vector<std::string> within;
+  for (const Completeness& c : completeness)
+    within.push_back(
+        fmt::format("{:.1f} % within {:g} fp", 100 * c.fraction, c.distance_footprints));
+  return fmt::format("{}", fmt::join(within, ", "));
+}
+
+// Model and hull over the concave region, when the truth gave one.
+std::string ConcaveTable(const StereoJobResult& result) {
+  const auto region = [](const StereoMeshSummary& m) {
+    return m.evaluation && m.evaluation->region ? &*m.evaluation->region : nullptr;
+  };
+  const RegionEvaluation* model = region(result.model);
+  const RegionEvaluation* hull = region(result.hull);
+  if (model == nullptr || hull == nullptr) return {};
+  HtmlTable table({"mesh", "accuracy (90 %)", "completeness"});
+  table.AddRow({"model", AccuracyText(model->accuracy_m, model->accuracy_footprints),
+                CompletenessText(model->completeness)});
+  table.AddRow({"visual hull", AccuracyText(hull->accuracy_m, hull->accuracy_footprints),
+                CompletenessText(hull->completeness)});
+  return Paragraph(fmt::format("Concave region: the {} true points the visual hull misses by more "
+                               "than {:g} footprints.",
+                               model->truth_points, kConcaveRegionFootprints)) +
+         table.ToHtml();
+}
+
 std::string MeshTable(const StereoJobResult& result) {
   HtmlTable table({"mesh", "triangles", "closed manifold", "volume (cm\u00b3)",
                    "inner silhouette px missed", "outer px covered", "accuracy (90 %)",
@@ -66,13 +97,8 @@ std::string MeshTable(const StereoJobResult& result) {
     const auto [missed, covered] = SilhouetteTotals(m);
     std::string accuracy = kNone, completeness = kNone;
     if (m.evaluation) {
-      accuracy = fmt::format("{:.2f} mm ({:.2f} fp)", m.evaluation->accuracy_m * 1e3,
-                             m.evaluation->accuracy_footprints);
-      std::vector<std::string> within;
-      for (const Completeness& c : m.evaluation->completeness)
-        within.push_back(
-            fmt::format("{:.1f} % within {:g} fp", 100 * c.fraction, c.distance_footprints));
-      completeness = fmt::format("{}", fmt::join(within, ", "));
+      accuracy = AccuracyText(m.evaluation->accuracy_m, m.evaluation->accuracy_footprints);
+      completeness = CompletenessText(m.evaluation->completeness);
     }
     table.AddRow(
         {name, std::to_string(m.triangles), m.closed_manifold ? "yes" : "no",
@@ -82,7 +108,7 @@ std::string MeshTable(const StereoJobResult& result) {
   };
   add("model", result.model);
   add("visual hull", result.hull);
-  return table.ToHtml("no mesh") +
+  return table.ToHtml("no mesh") + ConcaveTable(result) +
          Paragraph(
              "Silhouette pixels count when their centre lies at least 1 px inside the "
              "outline (missed) or outside it (covered); an exactly silhouette-consistent "

@@ -77,6 +77,42 @@ double Quantile(std::vector<double> values, double fraction) {
   return values[rank];
 }
 
+// The share of `distances` at most `within`, 0 for none.
+double FractionWithin(const std::vector<double>& distances, double within) {
+  if (distances.empty()) return 0.0;
+  const auto count =
+      std::count_if(distances.begin(), distances.end(), [within](double d) { return d <= within; });
+  return static_cast<double>(count) / static_cast<double>(distances.size());
+}
+
+// The region's measures from the distances of the model samples (to the truth) and of the
+// true points (to the model); `nearest_truth` is each sample's nearest true point.
+RegionEvaluation EvaluateRegion(const std::vector<uint8_t>& region,
+                                const std::vector<int>& nearest_truth,
+                                const std::vector<double>& sample_to_truth,
+                                const std::vector<double>& truth_to_model,
+                                const ModelEvaluationOptions& options,
+                                const std::vector<Completeness>& distances) {
+  RegionEvaluation result;
+  std::vector<double> samples, truths;
+  for (size_t s = 0; s < nearest_truth.size(); ++s) {
+    const int t = nearest_truth[s];
+    if (t >= 0 && region[static_cast<size_t>(t)] != 0) samples.push_back(sample_to_truth[s]);
+  }
+  for (size_t t = 0; t < region.size(); ++t) {
+    if (region[t] != 0) truths.push_back(truth_to_model[t]);
+  }
+  result.truth_points = truths.size();
+  result.model_samples = samples.size();
+  result.accuracy_m = Quantile(samples, options.accuracy_fraction);
+  result.accuracy_footprints = result.accuracy_m / options.footprint;
+  for (Completeness c : distances) {
+    c.fraction = FractionWithin(truths, c.distance_m);
+    result.completeness.push_back(c);
+  }
+  return result;
+}
+
 }  // namespace
 
 bool ModelEvaluationOptions::IsValid(std::string* reason) const {
@@ -107,6 +143,14 @@ bool ModelEvaluationOptions::IsValid(std::string* reason) const {
     return false;
   }
   return true;
+}
+
+std::string RegionEvaluation::Brief() const {
+  std::string text = fmt::format("{} true points: accuracy {:.2f} mm ({:.2f} fp), completeness",
+                                 truth_points, accuracy_m * 1e3, accuracy_footprints);
+  for (const Completeness& c : completeness)
+    text += fmt::format(" {:.1f} % within {:g} fp", 100 * c.fraction, c.distance_footprints);
+  return text;
 }
 
 std::string ModelEvaluation::Brief() const {
@@ -157,10 +201,15 @@ SurfaceSample SampleSurfaceBySpacing(const TriangleMesh& mesh, double spacing, u
 ModelEvaluation EvaluateModel(const TriangleMesh& model,
                               const std::vector<Eigen::Vector3d>& truth_points,
                               const std::vector<Eigen::Vector3d>& truth_normals,
-                              const ModelEvaluationOptions& options) {
+                              const ModelEvaluationOptions& options,
+                              const std::vector<uint8_t>* region,
+                              std::vector<double>* truth_distances) {
   std::string why;
   SILNET_CHECK_MSG(options.IsValid(&why), why);
   SILNET_CHECK(truth_points.size() == truth_normals.size());
+  SILNET_CHECK(region == nullptr || region->size() == truth_points.size());
+  if (truth_distances != nullptr)
+    truth_distances->assign(truth_points.size(), std::numeric_limits<double>::infinity());
   ModelEvaluation result;
   result.footprint = options.footprint;
   result.truth_points = truth_points.size();
@@ -179,6 +228,13 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
   const SurfaceSample sample =
       SampleSurfaceBySpacing(model, result.sample_spacing, options.random_seed);
   result.model_samples = sample.points.size();
+  if (region != nullptr) {
+    result.region = RegionEvaluation{};
+    result.region->truth_points = static_cast<size_t>(
+        std::count_if(region->begin(), region->end(), [](uint8_t r) { return r != 0; }));
+    result.region->accuracy_m = result.region->accuracy_footprints = result.accuracy_m;
+    result.region->completeness = result.completeness;
+  }
   if (sample.points.empty() || truth_points.empty()) return result;
 
   const NearestPoint truth_tree(truth_points);
@@ -198,11 +254,16 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
   const std::vector<double> to_model =
       SurfaceDistances(truth_points, sample.points, sample.normals, model_tree,
                        result.sample_spacing, options.neighbours);
-  for (Completeness& c : result.completeness) {
-    const size_t within = static_cast<size_t>(std::count_if(
-        to_model.begin(), to_model.end(), [&](double d) { return d <= c.distance_m; }));
-    c.fraction = static_cast<double>(within) / static_cast<double>(to_model.size());
+  for (Completeness& c : result.completeness)
+    c.fraction = FractionWithin(to_model, c.distance_m);
+  if (region != nullptr) {
+    std::vector<int> nearest_truth;
+    std::vector<double> unused;
+    truth_tree.KNearest(sample.points, 1, &nearest_truth, &unused);
+    result.region =
+        EvaluateRegion(*region, nearest_truth, to_truth, to_model, options, result.completeness);
   }
+  if (truth_distances != nullptr) *truth_distances = to_model;
   return result;
 }
 

@@ -28,6 +28,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <opencv2/core/mat.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,20 @@ struct Completeness {
   double fraction = 0.0;  // of the true points within distance_m of the model, [0, 1]
 };
 
+// The measures restricted to a region of the true surface (e.g. the concavities the visual
+// hull cannot reach): completeness over the region's true points, accuracy over the model
+// samples whose nearest true point lies in the region.
+struct RegionEvaluation {
+  size_t truth_points = 0;   // true points in the region
+  size_t model_samples = 0;  // model samples nearest to one of them
+  double accuracy_m = 0.0;   // infinite if no model sample is near the region
+  double accuracy_footprints = 0.0;
+  std::vector<Completeness> completeness;  // one per options.completeness_footprints
+
+  // One line like ModelEvaluation::Brief, prefixed by the region's size.
+  std::string Brief() const;
+};
+
 // The measures of one model.
 struct ModelEvaluation {
   double footprint = 0.0;    // metres, as given
@@ -69,6 +84,7 @@ struct ModelEvaluation {
   double accuracy_footprints = 0.0;
   double mean_distance_m = 0.0;            // mean model-to-truth distance
   std::vector<Completeness> completeness;  // one per options.completeness_footprints
+  std::optional<RegionEvaluation> region;  // when a region was given
 
   // One line: "accuracy 6.2 mm (1.06 fp), completeness 61.0 % / 73.9 % within 1 / 2 fp".
   std::string Brief() const;
@@ -83,12 +99,16 @@ struct SurfaceSample {
 SurfaceSample SampleSurfaceBySpacing(const TriangleMesh& mesh, double spacing, uint64_t seed);
 
 // Accuracy and completeness of `model` (world metres) against the true points and unit
-// normals (same length). Throws CheckError for invalid options or mismatched lengths; an
-// empty model or truth gives infinite accuracy and zero completeness.
+// normals (same length). With `region` (one flag per true point, non-zero = in the region)
+// the measures restricted to it as well; with `truth_distances` each true point's distance
+// to the model (as completeness counts it, metres). Throws CheckError for invalid options or
+// mismatched lengths; an empty model or truth gives infinite accuracy and zero completeness.
 ModelEvaluation EvaluateModel(const TriangleMesh& model,
                               const std::vector<Eigen::Vector3d>& truth_points,
                               const std::vector<Eigen::Vector3d>& truth_normals,
-                              const ModelEvaluationOptions& options);
+                              const ModelEvaluationOptions& options,
+                              const std::vector<uint8_t>* region = nullptr,
+                              std::vector<double>* truth_distances = nullptr);
 
 // The silhouette consistency of a model in one view.
 struct SilhouetteConsistency {

@@ -69,15 +69,34 @@ StereoMeshSummary Summarise(const TriangleMesh& mesh) {
   return summary;
 }
 
-// Fills the silhouette figures and the measures against the truth.
-void Evaluate(const TriangleMesh& mesh, const std::vector<StereoView>& views,
-              const std::optional<Truth>& truth, double footprint, StereoMeshSummary* summary) {
-  summary->views = MeasureSilhouetteConsistency(mesh, views);
-  if (!truth || !(footprint > 0)) return;
+ModelEvaluationOptions EvaluationOptions(const Truth& truth, double footprint) {
   ModelEvaluationOptions options;
   options.footprint = footprint;
-  options.truth_spacing = truth->spacing;
-  summary->evaluation = EvaluateModel(mesh, truth->points, truth->normals, options);
+  options.truth_spacing = truth.spacing;
+  return options;
+}
+
+// The true points farther than kConcaveRegionFootprints from the hull: where it cannot reach.
+std::vector<uint8_t> ConcaveRegion(const TriangleMesh& hull, const Truth& truth, double footprint) {
+  std::vector<double> to_hull;
+  EvaluateModel(hull, truth.points, truth.normals, EvaluationOptions(truth, footprint), nullptr,
+                &to_hull);
+  std::vector<uint8_t> region(to_hull.size());
+  for (size_t i = 0; i < to_hull.size(); ++i)
+    region[i] = to_hull[i] > kConcaveRegionFootprints * footprint ? 1 : 0;
+  return region;
+}
+
+// Fills the silhouette figures and the measures against the truth, over all of it and over
+// `concave` (when not empty).
+void Evaluate(const TriangleMesh& mesh, const std::vector<StereoView>& views,
+              const std::optional<Truth>& truth, double footprint,
+              const std::vector<uint8_t>& concave, StereoMeshSummary* summary) {
+  summary->views = MeasureSilhouetteConsistency(mesh, views);
+  if (!truth || !(footprint > 0)) return;
+  summary->evaluation =
+      EvaluateModel(mesh, truth->points, truth->normals, EvaluationOptions(*truth, footprint),
+                    concave.empty() ? nullptr : &concave);
 }
 
 bool Cancelled(const Progress* progress, StereoJobResult* result) {
@@ -102,8 +121,22 @@ void WriteEvaluation(cv::FileStorage& fs, const ModelEvaluation& e) {
        << "within_footprints" << c.distance_footprints << "within_mm" << c.distance_m * 1e3
        << "fraction" << c.fraction << "}";
   }
-  fs << "]"
-     << "}";
+  fs << "]";
+  if (e.region) {
+    const RegionEvaluation& r = *e.region;
+    fs << "concave_region"
+       << "{"
+       << "beyond_hull_footprints" << kConcaveRegionFootprints << "truth_points"
+       << AsInt(r.truth_points) << "accuracy_mm" << r.accuracy_m * 1e3 << "accuracy_footprints"
+       << r.accuracy_footprints << "completeness"
+       << "[";
+    for (const Completeness& c : r.completeness)
+      fs << "{"
+         << "within_footprints" << c.distance_footprints << "fraction" << c.fraction << "}";
+    fs << "]"
+       << "}";
+  }
+  fs << "}";
 }
 
 void WriteMesh(cv::FileStorage& fs, const std::string& name, const StereoMeshSummary& m) {
@@ -292,9 +325,12 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   // Evaluation.
   stage = Clock::now();
   if (progress) progress->Restart("evaluation", 2);
-  Evaluate(hull.mesh, views.views, truth, result.footprint, &result.hull);
+  const std::vector<uint8_t> concave = truth && result.footprint > 0
+                                           ? ConcaveRegion(hull.mesh, *truth, result.footprint)
+                                           : std::vector<uint8_t>();
+  Evaluate(hull.mesh, views.views, truth, result.footprint, concave, &result.hull);
   if (progress) progress->Advance();
-  Evaluate(cut.surface, views.views, truth, result.footprint, &result.model);
+  Evaluate(cut.surface, views.views, truth, result.footprint, concave, &result.model);
   if (progress) progress->Advance();
   result.seconds.evaluation = SecondsSince(stage);
   if (Cancelled(progress, &result)) return finish();

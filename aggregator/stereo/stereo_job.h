@@ -10,7 +10,9 @@
 //                      constraints of 6.6-6.7 are not built yet
 //   evaluation         per view silhouette consistency of model and hull (model_evaluation.h)
 //                      and, when the folder has gt_surface.ply (simulated stills), accuracy
-//                      and completeness of model and hull against it
+//                      and completeness of model and hull against it, over the whole surface
+//                      and over its concave region (the true points the hull misses by more
+//                      than kConcaveRegionFootprints)
 // Output in OUT (created if missing):
 //   model.ply    the model, binary PLY (ply_io.h), written only if it is closed and manifold
 //   hull.ply     the visual hull the model was cut from
@@ -88,6 +90,10 @@ struct StereoJobResult {
   StereoStageTimes seconds;
   std::vector<std::string> view_pictures;  // views/<camera>.png, relative to the output folder
 };
+
+// Where the visual hull lies farther than this from the true surface (pixel footprints), the
+// surface counts as concave: the region the issue asks stereo to be far better than the hull.
+inline constexpr double kConcaveRegionFootprints = 2.0;
 
 // Width in pixels of each of the three panels of a view picture (smaller images are kept).
 inline constexpr int kViewPicturePanelWidth = 480;
