@@ -72,12 +72,13 @@ int RunStereo(const StereoArgs& args) {
 Command AddStereoCommand(CLI::App& app) {
   auto args = std::make_shared<StereoArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "stereo", "a closed surface model of a still subject from calibrated stills (baseline)");
+      "stereo", "a closed surface model of a still subject from calibrated stills");
   cmd->add_option("input", args->input,
-                  "stills folder (<camera>/stills/%06d.png, <camera>/masks/%06d.png)")
+                  "stills folder (<camera>/stills/%06d.png, <camera>/masks/%06d.png), or a "
+                  "Middlebury folder (*_par.txt) without --calib")
       ->required();
-  cmd->add_option("--calib", args->calibration, "calibration.yaml (or ground_truth.yaml)")
-      ->required();
+  cmd->add_option("--calib", args->calibration,
+                  "calibration.yaml (or ground_truth.yaml) of a stills folder");
   cmd->add_option("-o,--out", args->out, "output folder")->required();
   cmd->add_option("--still", args->still, "the still (frame number) to reconstruct")
       ->capture_default_str();

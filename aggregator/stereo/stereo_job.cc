@@ -8,11 +8,15 @@
 #include <opencv2/core/persistence.hpp>
 #include <sstream>
 
+#include "aggregator/hulls/boundary_mesh.h"
 #include "aggregator/hulls/mesh_check.h"
 #include "aggregator/hulls/mesh_measure.h"
 #include "aggregator/hulls/ply_io.h"
 #include "aggregator/hulls/polyhedral_hull.h"
+#include "aggregator/hulls/viewing_cone_bounds.h"
+#include "aggregator/hulls/voxel_hull.h"
 #include "aggregator/report/stereo_report.h"
+#include "aggregator/stereo/middlebury_dataset.h"
 #include "aggregator/stereo/model_render.h"
 #include "aggregator/stereo/stills_folder.h"
 #include "shared/io/png_writer.h"
@@ -180,6 +184,62 @@ bool TouchesBorder(const cv::Mat& mask) {
          cv::countNonZero(mask.col(0)) > 0 || cv::countNonZero(mask.col(mask.cols - 1)) > 0;
 }
 
+// The mean pixel footprint (metres) at the centre of the viewing cones' box, 0 if the cones
+// do not bound one.
+double FootprintAtConesCentre(const CutSilhouettes& views) {
+  const ViewingConeBounds bounds = ComputeViewingConeBounds(views.cameras, views.masks);
+  if (!bounds.success) return 0;
+  const Eigen::Vector3d centre = bounds.box.center();
+  double sum = 0;
+  for (const CameraModel& camera : views.cameras)
+    sum += std::abs((camera.R * centre + camera.t).z()) / camera.K(0, 0);
+  return sum / static_cast<double>(views.cameras.size());
+}
+
+// The exact polyhedral hull of `views`, or, when it cannot be closed (symmetric rings such
+// as the Middlebury temple's; issue 20), the voxel hull carved at one pixel footprint, with
+// a warning saying so.
+PolyhedralHullResult ComputeStereoHull(const CutSilhouettes& views, int threads,
+                                       std::vector<std::string>* warnings) {
+  PolyhedralHullResult exact = ComputePolyhedralHull(views.cameras, views.masks);
+  if (exact.success) return exact;
+  VoxelHullOptions carve;
+  carve.voxel_size = FootprintAtConesCentre(views);
+  carve.threads = threads;
+  if (!(carve.voxel_size > 0)) return exact;
+  const VoxelHullResult voxels = CarveVoxelHull(views.cameras, views.masks, carve);
+  if (!voxels.success) {
+    exact.reason = fmt::format("{}; voxel carving: {}", exact.reason, voxels.reason);
+    return exact;
+  }
+  warnings->push_back(fmt::format(
+      "visual hull: the exact hull failed ({}); carved from voxels of {:.3f} mm instead",
+      exact.reason, carve.voxel_size * 1e3));
+  spdlog::warn("{}", warnings->back());
+  PolyhedralHullResult result;
+  result.success = true;
+  result.mesh = ExtractBoundaryMesh(voxels.grid);
+  return result;
+}
+
+// The views of the stills folder with its calibration, or of the Middlebury folder when no
+// calibration is given.
+StereoViews LoadViews(const StereoJobConfig& config) {
+  if (!config.calibration.empty()) {
+    StillsFolderOptions load;
+    load.frame = config.still;
+    return LoadStillsFolder(config.input, config.calibration, load);
+  }
+  if (config.still != 0) throw InputError("a Middlebury folder has one still only (--still 0)");
+  try {
+    return LoadMiddlebury(config.input);
+  } catch (const InputError& e) {
+    throw InputError(
+        fmt::format("no calibration given (--calib) and {} is not a Middlebury folder either: {}",
+                    config.input.string(), e.what()));
+  }
+}
+
 }  // namespace
 
 VolumetricGraphCutOptions StereoGraphCutDefaults() {
@@ -232,9 +292,7 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   // Load.
   Clock::time_point stage = Clock::now();
   if (progress) progress->Restart("load", 1);
-  StillsFolderOptions load;
-  load.frame = config.still;
-  const StereoViews views = LoadStillsFolder(config.input, config.calibration, load);
+  const StereoViews views = LoadViews(config);
   result.views = views.views.size();
   result.warnings = views.warnings;
   for (const std::string& warning : views.warnings)
@@ -266,7 +324,7 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
     hull.reason = fmt::format("{} of {} silhouettes lie inside their image, at least 2 needed",
                               hull_cameras.size(), views.views.size());
   } else {
-    hull = ComputePolyhedralHull(hull_cameras, hull_views.masks);
+    hull = ComputeStereoHull(hull_views, config.threads, &result.warnings);
   }
   result.seconds.hull = SecondsSince(stage);
   if (!hull.success || hull.mesh.triangles.empty()) {

@@ -1,8 +1,10 @@
 #pragma once
 // The `stereo` job (thesis ch. 5-6): a closed surface model of a still subject from a stills
 // folder (stills_folder.h) and its calibration. Stages, each timed:
-//   load               the views of one still (undistorted, with silhouettes)
-//   visual hull        the exact polyhedral hull of the silhouettes (polyhedral_hull.h)
+//   load               the views of one still (undistorted, with silhouettes) of a stills
+//                      folder, or of a Middlebury folder when no calibration is given
+//   visual hull        the exact polyhedral hull of the silhouettes (polyhedral_hull.h); the
+//                      voxel hull at one pixel footprint, with a warning, where it fails
 //   photo-consistency  votes of all view pairs on a lattice inside the hull (6.8.1)
 //   graph cut          the volumetric cut between the hull and an inner offset
 //                      (volumetric_graph_cut.h, 5.4.1), re-solved by silhouette steps (7.4.2)
@@ -47,10 +49,11 @@ VolumetricGraphCutOptions StereoGraphCutDefaults();
 
 // Inputs, outputs and settings of one run.
 struct StereoJobConfig {
-  std::filesystem::path input;                // stills folder
-  std::filesystem::path calibration;          // calibration.yaml (or ground_truth.yaml)
-  std::filesystem::path output;               // created if missing
-  int still = 0;                              // the still taken: stills/%06d.png, masks/%06d.png
+  std::filesystem::path input;        // stills folder, or Middlebury folder
+  std::filesystem::path calibration;  // calibration.yaml (or ground_truth.yaml); empty: `input`
+                                      // is a Middlebury folder (middlebury_dataset.h)
+  std::filesystem::path output;       // created if missing
+  int still = 0;                      // the still taken: stills/%06d.png, masks/%06d.png
   PhotoConsistencyOptions photo_consistency;  // threads set by `threads`
   VolumetricGraphCutOptions graph_cut = StereoGraphCutDefaults();
   int threads = 0;  // 0 = all cores
@@ -98,11 +101,11 @@ inline constexpr double kConcaveRegionFootprints = 2.0;
 // Width in pixels of each of the three panels of a view picture (smaller images are kept).
 inline constexpr int kViewPicturePanelWidth = 480;
 
-// Runs the job. Throws InputError for invalid settings and for what LoadStillsFolder rejects
-// (unreadable calibration, a camera without any silhouette source, too few views), and if
-// an output file cannot be written. `progress` (may be null) gets one stage after the other
-// ("load", "visual hull", "photo-consistency", "graph cut", "evaluation", "pictures") and is polled
-// for cancellation between and within stages.
+// Runs the job. Throws InputError for invalid settings, for what LoadStillsFolder (or
+// LoadMiddlebury) rejects (unreadable calibration, a camera without any silhouette source,
+// too few views), and if an output file cannot be written. `progress` (may be null) gets one
+// stage after the other ("load", "visual hull", "photo-consistency", "graph cut",
+// "evaluation", "pictures") and is polled for cancellation between and within stages.
 StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress);
 
 // Writes OUT/stereo.yaml for `result` (config.output is OUT). Throws InputError if it cannot

@@ -505,6 +505,15 @@ TEST(StereoCliTest, MissingCalibrationIsAnInputError) {
   EXPECT_EQ(cli.Wait(std::chrono::seconds(60)), std::optional<int>(2)) << cli.Stderr();
   EXPECT_NE(cli.Stderr().find("none.yaml"), std::string::npos) << cli.Stderr();
   EXPECT_FALSE(std::filesystem::exists(work / "out" / "model.ply"));
+
+  // Without --calib the input must be a Middlebury folder; a stills folder is not one.
+  silnet::testing::ChildProcess no_calibration(
+      std::filesystem::path(SILNET_BINARY_DIR) / "aggregator/silnet-aggregator",
+      {"stereo", input.string(), "-o", (work / "out").string()}, work.path());
+  EXPECT_EQ(no_calibration.Wait(std::chrono::seconds(60)), std::optional<int>(2))
+      << no_calibration.Stderr();
+  EXPECT_NE(no_calibration.Stderr().find("no calibration given (--calib)"), std::string::npos)
+      << no_calibration.Stderr();
 }
 
 }  // namespace
