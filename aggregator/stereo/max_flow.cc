@@ -37,6 +37,8 @@ struct MaxFlowGraph::Impl {
   int nodes = 0;
   int64_t edges = 0;
   bool solved = false;
+  bool pending = false;   // nodes forced since the last Solve() or Resolve()
+  double sink_total = 0;  // sum of all sink capacities added
   double flow = 0;
 };
 
@@ -60,6 +62,7 @@ void MaxFlowGraph::AddTerminalCapacities(int node, double source_capacity, doubl
   SILNET_CHECK(node >= 0 && node < impl_->nodes && !impl_->solved);
   SILNET_CHECK(source_capacity >= 0 && sink_capacity >= 0);
   impl_->graph.add_tweights(node, source_capacity, sink_capacity);
+  impl_->sink_total += sink_capacity;
 }
 
 void MaxFlowGraph::AddEdge(int a, int b, double a_to_b, double b_to_a) {
@@ -76,8 +79,27 @@ double MaxFlowGraph::Solve() {
   return impl_->flow;
 }
 
+void MaxFlowGraph::ForceSourceSide(int node) {
+  SILNET_CHECK_MSG(impl_->solved, "MaxFlowGraph::ForceSourceSide before Solve");
+  SILNET_CHECK(node >= 0 && node < impl_->nodes);
+  // Any cut that separates `node` from the source costs more than the cut with every node on
+  // the source side, whose capacity is at most sink_total: the library adds this to the
+  // node's residual source capacity (cancelling any residual sink capacity as flow).
+  impl_->graph.add_tweights(node, impl_->sink_total + 1.0, 0.0);
+  impl_->graph.mark_node(node);
+  impl_->pending = true;
+}
+
+double MaxFlowGraph::Resolve() {
+  SILNET_CHECK_MSG(impl_->solved, "MaxFlowGraph::Resolve before Solve");
+  if (impl_->pending) impl_->flow = impl_->graph.maxflow(/*reuse_trees=*/true);
+  impl_->pending = false;
+  return impl_->flow;
+}
+
 bool MaxFlowGraph::IsSourceSide(int node) const {
   SILNET_CHECK(impl_->solved && node >= 0 && node < impl_->nodes);
+  SILNET_CHECK_MSG(!impl_->pending, "MaxFlowGraph::IsSourceSide with forced nodes: Resolve first");
   return impl_->graph.what_segment(node, BkGraph::SOURCE) == BkGraph::SOURCE;
 }
 

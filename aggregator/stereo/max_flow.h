@@ -13,8 +13,11 @@ namespace silnet::aggregator {
 
 // A flow graph with a source, a sink and non-negative capacities on terminal links
 // (t-links) and on directed pairs of neighbour links (n-links). Build it, call Solve() once,
-// then read which side of the minimum cut each node is on. Node ids are 0, 1, 2, ... in the
-// order added. Not copyable; not thread-safe.
+// then read which side of the minimum cut each node is on. After Solve() nodes may be forced
+// to the source side and the cut updated by Resolve(), which reuses the search trees and the
+// flow found so far (Kohli and Torr, "Efficiently Solving Dynamic Markov Random Fields Using
+// Graph Cuts", ICCV 2005): far cheaper than solving the changed graph from scratch when few
+// nodes change. Node ids are 0, 1, 2, ... in the order added. Not copyable; not thread-safe.
 class MaxFlowGraph {
  public:
   // An empty graph; the expected counts only size the first allocation (both may be 0).
@@ -29,22 +32,38 @@ class MaxFlowGraph {
   // must stay below 2^31 (CheckError otherwise).
   int AddNodes(int count);
   // Adds capacity from the source to `node` and from `node` to the sink (both >= 0); may
-  // be called several times per node, capacities add up.
+  // be called several times per node, capacities add up. Before Solve() only.
   void AddTerminalCapacities(int node, double source_capacity, double sink_capacity);
   // Adds the n-link pair a -> b (capacity `a_to_b`) and b -> a (`b_to_a`), both >= 0, a != b.
+  // Before Solve() only.
   void AddEdge(int a, int b, double a_to_b, double b_to_a);
 
   // Computes the maximum flow (= the capacity of the minimum cut) and returns it. Call once,
-  // after the graph is complete (CheckError on a second call or on changes afterwards).
+  // after the graph is complete (CheckError on a second call or on changes other than
+  // ForceSourceSide afterwards).
   double Solve();
-  // After Solve(): true iff `node` is on the source side of the minimum cut. A node that can
-  // be on either side of some minimum cut (reached by neither search tree) counts as source.
+
+  // After Solve(): ties `node` to the source with a capacity larger than the capacity of the
+  // cut that puts every node on the source side (the sum of all sink capacities, plus 1), so
+  // no minimum cut separates it from the source and no minimum cut's capacity includes it.
+  // Takes effect at the next Resolve(); forcing a node twice is harmless.
+  void ForceSourceSide(int node);
+  // After Solve(): the maximum flow of the graph with the nodes forced since the last
+  // Solve() or Resolve(), computed from the previous flow and search trees. Returns the new
+  // value, the capacity of the changed graph's minimum cut (the forcing capacities are never
+  // cut, so it counts only the original links).
+  double Resolve();
+
+  // After Solve(), with no ForceSourceSide pending: true iff `node` is on the source side of
+  // the minimum cut. A node that can be on either side of some minimum cut (one that cannot
+  // reach the sink in the residual graph) counts as source, so in exact arithmetic the labels
+  // are the minimum cut with the largest source side, whatever the order of solves.
   bool IsSourceSide(int node) const;
 
   int num_nodes() const;      // nodes added
   int64_t num_edges() const;  // AddEdge calls (each is two directed arcs)
   bool solved() const;        // Solve() has run
-  double flow() const;        // the value Solve() returned (0 before)
+  double flow() const;        // the value the last Solve() or Resolve() returned (0 before)
   // Bytes the library holds for nodes and arcs at the current counts (its node and arc
   // records on a 64-bit build: 48 and 32 bytes with double capacities), excluding
   // allocation slack and the small search queues.

@@ -36,10 +36,25 @@ void ForEachNeighbour(const VoxelGrid& grid, size_t c, bool all, Fn&& fn) {
       }
 }
 
-// The graph of stereo_graph.h: builds, solves and labels into result.interior.
-void CutLattice(const StereoLattice& lattice, const VoteVolume& votes,
-                const VolumetricGraphCutOptions& options, VolumetricGraphCutResult& result) {
-  VolumetricGraphCutStats& stats = result.stats;
+// Labels result.interior from the solved `graph`: interior = the pockets of `lattice` and its
+// free cells on the source side of the cut.
+void LabelCells(const StereoLattice& lattice, const StereoGraph& graph,
+                VolumetricGraphCutResult& result) {
+  const auto start = Clock::now();
+  for (size_t c = 0; c < lattice.roles.size(); ++c) {
+    const bool inside =
+        lattice.roles[c] == CellRole::kPocket ||
+        (lattice.roles[c] == CellRole::kFree && graph.graph.IsSourceSide(graph.node_of_cell[c]));
+    result.interior.occupied[c] = inside ? 1 : 0;
+  }
+  result.stats.seconds_labels += SecondsSince(start);
+}
+
+// The graph of stereo_graph.h for `lattice`, built and solved; its sizes, cut and times go to
+// `stats`.
+StereoGraph BuildAndSolve(const StereoLattice& lattice, const VoteVolume& votes,
+                          const VolumetricGraphCutOptions& options,
+                          VolumetricGraphCutStats& stats) {
   auto start = Clock::now();
   StereoGraph graph = BuildStereoGraph(lattice, votes, options.lambda, options.ballooning);
   stats.seconds_build += SecondsSince(start);
@@ -50,14 +65,52 @@ void CutLattice(const StereoLattice& lattice, const VoteVolume& votes,
   start = Clock::now();
   stats.cut_cost = graph.graph.Solve() + graph.forced_cost;
   stats.seconds_max_flow += SecondsSince(start);
-  start = Clock::now();
-  for (size_t c = 0; c < lattice.roles.size(); ++c) {
-    const bool inside =
-        lattice.roles[c] == CellRole::kPocket ||
-        (lattice.roles[c] == CellRole::kFree && graph.graph.IsSourceSide(graph.node_of_cell[c]));
-    result.interior.occupied[c] = inside ? 1 : 0;
+  return graph;
+}
+
+// Ties the nodes of `cells` (free cells of the solved `graph`) to the source and updates the
+// cut incrementally. The cut's capacity plus the graph's forced cost is the cost of the cut
+// of the graph rebuilt with these cells as pockets (the forcing capacities are never cut).
+void ForceAndResolve(const std::vector<size_t>& cells, StereoGraph& graph,
+                     VolumetricGraphCutStats& stats) {
+  const auto start = Clock::now();
+  for (size_t c : cells)
+    graph.graph.ForceSourceSide(graph.node_of_cell[c]);
+  stats.cut_cost = graph.graph.Resolve() + graph.forced_cost;
+  stats.seconds_max_flow += SecondsSince(start);
+}
+
+// Surface of result.interior into result.surface when the options need it.
+void ExtractSurface(const VolumetricGraphCutOptions& options, VolumetricGraphCutResult& result) {
+  if (!options.extract_surface && options.silhouette_rounds == 0) return;
+  const auto start = Clock::now();
+  result.surface = ExtractCutSurface(result.interior, options.surface);
+  result.stats.seconds_surface += SecondsSince(start);
+}
+
+// Cells the silhouette step ties to the source for `repair`, marked as pockets in `lattice`
+// (free cells only, each once). A cell forced before whose pixel is still missed was smoothed
+// away (a lone cell, a thin line): its face neighbours in the hull join it, else its 26.
+std::vector<size_t> ForceRepairCells(const SilhouetteRepair& repair, const VoxelGrid& hull,
+                                     StereoLattice& lattice) {
+  std::vector<size_t> added;
+  const auto force = [&lattice, &added](size_t c) {
+    if (lattice.roles[c] != CellRole::kFree) return;
+    lattice.roles[c] = CellRole::kPocket;
+    --lattice.free_cells;
+    ++lattice.pocket_cells;
+    added.push_back(c);
+  };
+  for (size_t c : repair.cells) {
+    if (lattice.roles[c] == CellRole::kFree) {
+      force(c);
+      continue;
+    }
+    const size_t before = added.size();
+    ForEachNeighbour(hull, c, false, force);
+    if (added.size() == before) ForEachNeighbour(hull, c, true, force);
   }
-  stats.seconds_labels += SecondsSince(start);
+  return added;
 }
 
 }  // namespace
@@ -113,7 +166,7 @@ VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const Voxel
   stats.lattice_cells = votes.size();
 
   auto start = Clock::now();
-  const StereoLattice lattice =
+  StereoLattice lattice =
       ClassifyLattice(hull, options.inner_offset_fraction, options.inner_offset_cells);
   stats.seconds_distance = SecondsSince(start);
   stats.hull_cells = lattice.hull_cells;
@@ -138,50 +191,27 @@ VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const Voxel
       lattice.roles.size() * (sizeof(CellRole) + sizeof(int32_t) + 1 + sizeof(float));
   SILNET_CHECK_MSG(silhouettes != nullptr || options.silhouette_rounds == 0,
                    "the silhouette step needs the silhouettes");
-  // One cut of `roles` into result.interior and result.surface; times add up over rounds.
-  const auto solve = [&](const StereoLattice& roles) {
-    result.interior = VoxelGrid::Empty(votes.origin, votes.cell_size, votes.dims);
-    CutLattice(roles, votes, options, result);
-    if (options.extract_surface || options.silhouette_rounds > 0) {
-      const auto surface_start = Clock::now();
-      result.surface = ExtractCutSurface(result.interior, options.surface);
-      stats.seconds_surface += SecondsSince(surface_start);
-    }
-  };
-  solve(lattice);
-  if (options.silhouette_rounds > 0) {
-    StereoLattice forced = lattice;
-    for (int round = 0; round < options.silhouette_rounds; ++round) {
-      start = Clock::now();
-      const SilhouetteRepair repair =
-          FindSilhouetteRepair(result.surface, hull, votes, silhouettes->cameras,
-                               silhouettes->masks, options.silhouette_margin_px);
-      stats.seconds_silhouette_step += SecondsSince(start);
-      stats.missed_pixels_per_round.push_back(repair.missed_pixels);
-      size_t added = 0;
-      const auto force = [&forced, &added](size_t c) {
-        if (forced.roles[c] != CellRole::kFree) return;
-        forced.roles[c] = CellRole::kPocket;
-        --forced.free_cells;
-        ++forced.pocket_cells;
-        ++added;
-      };
-      for (size_t c : repair.cells) {
-        // A cell forced before whose pixel is still missed was smoothed away (a lone cell,
-        // a thin line): its face neighbours in the hull join it, then its 26 neighbours.
-        if (forced.roles[c] == CellRole::kFree) {
-          force(c);
-          continue;
-        }
-        const size_t before = added;
-        ForEachNeighbour(hull, c, false, force);
-        if (added == before) ForEachNeighbour(hull, c, true, force);
-      }
-      stats.forced_cells += added;
-      if (added == 0) break;
-      ++stats.silhouette_rounds;
-      solve(forced);
-    }
+  // The graph is built and solved once. Each silhouette step marks the cells it forces as
+  // pockets in `lattice` (the labels) and ties their nodes to the source in the graph, whose
+  // cut is then updated from the previous flow instead of being rebuilt.
+  StereoGraph graph = BuildAndSolve(lattice, votes, options, stats);
+  result.interior = VoxelGrid::Empty(votes.origin, votes.cell_size, votes.dims);
+  LabelCells(lattice, graph, result);
+  ExtractSurface(options, result);
+  for (int round = 0; round < options.silhouette_rounds; ++round) {
+    start = Clock::now();
+    const SilhouetteRepair repair =
+        FindSilhouetteRepair(result.surface, hull, votes, silhouettes->cameras, silhouettes->masks,
+                             options.silhouette_margin_px);
+    stats.seconds_silhouette_step += SecondsSince(start);
+    stats.missed_pixels_per_round.push_back(repair.missed_pixels);
+    const std::vector<size_t> added = ForceRepairCells(repair, hull, lattice);
+    stats.forced_cells += added.size();
+    if (added.empty()) break;
+    ++stats.silhouette_rounds;
+    ForceAndResolve(added, graph, stats);
+    LabelCells(lattice, graph, result);
+    ExtractSurface(options, result);
   }
   for (uint8_t inside : result.interior.occupied)
     stats.interior_cells += inside;

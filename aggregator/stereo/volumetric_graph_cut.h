@@ -6,7 +6,9 @@
 // roles, the flow graph (stereo_graph.h), Boykov-Kolmogorov max flow (max_flow.h), the labels,
 // and the surface of the interior cells (surface_extraction.h). Silhouette steps (thesis
 // 7.4.2, silhouette_repair.h) then tie a cell to the source for every silhouette pixel the
-// surface misses and solve again, until the model covers its silhouettes. (The exact
+// surface misses and update the cut, until the model covers its silhouettes; the graph is
+// built and solved once, each step re-solves incrementally from the previous flow and search
+// trees (max_flow.h) with the same result as rebuilding it with the cells as pockets. (The exact
 // constraints of 6.4-6.7, Formulation I and II, are not built yet.)
 
 #include <cstddef>
@@ -53,18 +55,18 @@ struct VolumetricGraphCutStats {
   size_t lattice_cells = 0;
   size_t hull_cells = 0;
   size_t pocket_cells = 0;        // tied to the source
-  size_t nodes = 0;               // free cells: graph nodes (of the last round)
+  size_t nodes = 0;               // graph nodes: free cells before silhouette steps
   size_t n_links = 0;             // edges between nodes (two arcs each)
   size_t t_link_faces = 0;        // faces of nodes with pocket or outside cells
   double max_depth_cells = 0;     // d_max of the hull
   double inner_offset_cells = 0;  // the depth used
-  double cut_cost = 0;            // capacity of the minimum cut incl. forced faces
+  double cut_cost = 0;            // capacity of the final minimum cut incl. forced faces
   size_t interior_cells = 0;      // cells labelled interior
   size_t graph_bytes = 0;         // max-flow library's nodes and arcs
   size_t lattice_bytes = 0;       // roles, node index, labels, distances
   double seconds_distance = 0;    // distance transform and roles
-  double seconds_build = 0;       // flow graph (all rounds)
-  double seconds_max_flow = 0;    // Boykov-Kolmogorov (all rounds)
+  double seconds_build = 0;       // flow graph (built once)
+  double seconds_max_flow = 0;    // Boykov-Kolmogorov (first solve + incremental re-solves)
   double seconds_labels = 0;      // interior grid from the cut (all rounds)
   double seconds_surface = 0;     // surface mesh (all rounds)
   size_t surface_triangles = 0;

@@ -1,10 +1,12 @@
 // The max-flow layer against a hand-computed graph and against brute-force minimum cuts of
-// random small graphs (all 2^n labellings).
+// random small graphs (all 2^n labellings); incremental re-solves after forcing nodes to the
+// source against the same brute force and against grid graphs built forced from scratch.
 
 #include "aggregator/stereo/max_flow.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 #include <random>
 #include <vector>
@@ -32,6 +34,24 @@ TEST(MaxFlowGraph, HandComputedGraph) {
   EXPECT_EQ(graph.num_nodes(), 2);
   EXPECT_EQ(graph.num_edges(), 1);
   EXPECT_EQ(graph.MemoryBytes(), 2u * 48u + 2u * 32u);
+}
+
+// The graph above with b forced to the source: cuts {s, b} 4 + 4 = 8 and {s, a, b} 2 + 4 = 6.
+TEST(MaxFlowGraph, ResolveAfterForcingHandComputedGraph) {
+  MaxFlowGraph graph(2, 1);
+  const int a = graph.AddNodes(2);
+  const int b = a + 1;
+  graph.AddTerminalCapacities(a, 4, 2);
+  graph.AddTerminalCapacities(b, 2, 4);
+  graph.AddEdge(a, b, 1, 0);
+  EXPECT_DOUBLE_EQ(graph.Solve(), 5.0);
+  graph.ForceSourceSide(b);
+  EXPECT_THROW(graph.IsSourceSide(a), CheckError);  // labels stale until Resolve
+  EXPECT_DOUBLE_EQ(graph.Resolve(), 6.0);
+  EXPECT_DOUBLE_EQ(graph.flow(), 6.0);
+  EXPECT_TRUE(graph.IsSourceSide(a));
+  EXPECT_TRUE(graph.IsSourceSide(b));
+  EXPECT_DOUBLE_EQ(graph.Resolve(), 6.0);  // nothing forced since: unchanged
 }
 
 struct RandomGraph {
@@ -98,6 +118,128 @@ TEST(MaxFlowGraph, MatchesBruteForceMinimumCut) {
   }
 }
 
+// Minimum cut capacity over the labellings with the bits of `forced` on the source side.
+double ForcedMinimumCut(const RandomGraph& g, unsigned forced) {
+  double best = std::numeric_limits<double>::infinity();
+  for (unsigned mask = 0; mask < (1u << g.n); ++mask) {
+    if ((mask & forced) == forced) best = std::min(best, CutCapacity(g, mask));
+  }
+  return best;
+}
+
+TEST(MaxFlowGraph, ResolveMatchesBruteForceForcedCut) {
+  constexpr int kNodes = 10;
+  for (int seed = 0; seed < 50; ++seed) {
+    std::mt19937_64 rng(static_cast<uint64_t>(seed) + 100);
+    const RandomGraph g = MakeRandomGraph(rng, kNodes);
+    MaxFlowGraph graph(kNodes, static_cast<int64_t>(g.edges.size()));
+    graph.AddNodes(kNodes);
+    for (int i = 0; i < kNodes; ++i)
+      graph.AddTerminalCapacities(i, g.source[i], g.sink[i]);
+    for (const auto& e : g.edges)
+      graph.AddEdge(e.a, e.b, e.ab, e.ba);
+    graph.Solve();
+    // Three rounds, each forcing one or two more nodes (possibly again).
+    std::uniform_int_distribution<int> node(0, kNodes - 1);
+    unsigned forced = 0;
+    for (int round = 0; round < 3; ++round) {
+      for (int k = 0; k <= round % 2; ++k) {
+        const int i = node(rng);
+        graph.ForceSourceSide(i);
+        forced |= 1u << i;
+      }
+      const double flow = graph.Resolve();
+      const double best = ForcedMinimumCut(g, forced);
+      unsigned labels = 0;
+      for (int i = 0; i < kNodes; ++i)
+        labels |= graph.IsSourceSide(i) ? (1u << i) : 0u;
+      EXPECT_EQ(labels & forced, forced) << "seed " << seed << " round " << round;
+      EXPECT_NEAR(flow, best, 1e-9 * (1 + best)) << "seed " << seed << " round " << round;
+      EXPECT_NEAR(CutCapacity(g, labels), best, 1e-9 * (1 + best)) << "seed " << seed;
+    }
+  }
+}
+
+// A 3D grid graph with 6-neighbour n-links and integer capacities (exact in doubles, so the
+// flows and the labels, the minimum cut with the largest source side, must match exactly).
+struct GridGraph {
+  int side = 0;
+  std::vector<double> source, sink;
+  std::vector<RandomGraph::Edge> edges;
+};
+
+GridGraph MakeGridGraph(std::mt19937_64& rng, int side) {
+  std::uniform_int_distribution<int> link(0, 9), terminal(0, 6);
+  GridGraph g;
+  g.side = side;
+  const int n = side * side * side;
+  const auto id = [side](int i, int j, int k) { return (k * side + j) * side + i; };
+  for (int c = 0; c < n; ++c) {
+    g.source.push_back(terminal(rng));
+    g.sink.push_back(terminal(rng));
+  }
+  for (int k = 0; k < side; ++k)
+    for (int j = 0; j < side; ++j)
+      for (int i = 0; i < side; ++i) {
+        const double w = link(rng);
+        if (i + 1 < side) g.edges.push_back({id(i, j, k), id(i + 1, j, k), w, w});
+        if (j + 1 < side) g.edges.push_back({id(i, j, k), id(i, j + 1, k), w, w});
+        if (k + 1 < side) g.edges.push_back({id(i, j, k), id(i, j, k + 1), w, w});
+      }
+  return g;
+}
+
+// The graph of `g`, unsolved; nodes of `forced` get `force` more source capacity.
+MaxFlowGraph BuildGrid(const GridGraph& g, const std::vector<int>& forced, double force) {
+  const int n = static_cast<int>(g.source.size());
+  MaxFlowGraph graph(n, static_cast<int64_t>(g.edges.size()));
+  graph.AddNodes(n);
+  for (int i = 0; i < n; ++i)
+    graph.AddTerminalCapacities(i, g.source[i], g.sink[i]);
+  for (int i : forced)
+    graph.AddTerminalCapacities(i, force, 0);
+  for (const auto& e : g.edges)
+    graph.AddEdge(e.a, e.b, e.ab, e.ba);
+  return graph;
+}
+
+TEST(MaxFlowGraph, ResolveMatchesGridGraphsSolvedFromScratch) {
+  constexpr int kSide = 14;
+  for (int seed = 0; seed < 6; ++seed) {
+    std::mt19937_64 rng(static_cast<uint64_t>(seed));
+    const GridGraph g = MakeGridGraph(rng, kSide);
+    double sink_total = 0;
+    for (double c : g.sink)
+      sink_total += c;
+    const int n = static_cast<int>(g.source.size());
+    MaxFlowGraph incremental = BuildGrid(g, {}, 0);
+    incremental.Solve();
+    // Rounds forcing six sink-side nodes from a random start and three random nodes.
+    std::uniform_int_distribution<int> node(0, n - 1);
+    std::vector<int> forced;
+    for (int round = 0; round < 4; ++round) {
+      std::vector<int> fresh;
+      for (int i = node(rng); i < n && fresh.size() < 6; ++i) {
+        if (!incremental.IsSourceSide(i)) fresh.push_back(i);
+      }
+      for (int k = 0; k < 3; ++k)
+        fresh.push_back(node(rng));
+      for (int i : fresh)
+        incremental.ForceSourceSide(i);
+      forced.insert(forced.end(), fresh.begin(), fresh.end());
+      const double flow = incremental.Resolve();
+      MaxFlowGraph scratch = BuildGrid(g, forced, sink_total + 1);
+      ASSERT_EQ(flow, scratch.Solve()) << "seed " << seed << " round " << round;
+      int differ = 0;
+      for (int i = 0; i < n; ++i)
+        differ += incremental.IsSourceSide(i) != scratch.IsSourceSide(i) ? 1 : 0;
+      EXPECT_EQ(differ, 0) << "seed " << seed << " round " << round;
+      for (int i : forced)
+        EXPECT_TRUE(incremental.IsSourceSide(i));
+    }
+  }
+}
+
 TEST(MaxFlowGraph, EmptyGraphAndMisuse) {
   MaxFlowGraph empty(0, 0);
   EXPECT_EQ(empty.Solve(), 0.0);
@@ -114,8 +256,13 @@ TEST(MaxFlowGraph, EmptyGraphAndMisuse) {
   graph.AddTerminalCapacities(0, 1, 0);
   graph.AddEdge(0, 1, 2, 0);
   graph.AddTerminalCapacities(1, 0, 3);
+  EXPECT_THROW(graph.ForceSourceSide(0), CheckError);  // before Solve
+  EXPECT_THROW(graph.Resolve(), CheckError);
   EXPECT_DOUBLE_EQ(graph.Solve(), 1.0);
   EXPECT_THROW(graph.AddNodes(1), CheckError);
+  EXPECT_THROW(graph.AddEdge(0, 1, 1, 1), CheckError);
+  EXPECT_THROW(graph.AddTerminalCapacities(0, 1, 0), CheckError);
+  EXPECT_THROW(graph.ForceSourceSide(3), CheckError);
   EXPECT_TRUE(graph.IsSourceSide(2));  // isolated: either side, reported as source
 }
 

@@ -1,7 +1,8 @@
 // The baseline volumetric graph cut on synthetic vote volumes with known shapes: a sphere of
 // votes inside a larger spherical hull, a cube with a dent inside a convex box hull (the hull
 // fills the dent, the cut must recover it), the ballooning term, the distance transform
-// against brute force, failures as data, and sizes and times on a 128^3 lattice.
+// against brute force, incremental re-solves against rebuilt graphs, failures as data, and
+// sizes and times on a 128^3 lattice.
 
 #include "aggregator/stereo/volumetric_graph_cut.h"
 
@@ -105,6 +106,53 @@ TEST(ClassifyLattice, PocketsBeyondTheInnerOffset) {
   const StereoLattice fixed = ClassifyLattice(box, 0.4, 6);
   EXPECT_EQ(fixed.pocket_cells, 4u * 4u * 4u);  // depth >= 7
   EXPECT_EQ(fixed.free_cells + fixed.pocket_cells, fixed.hull_cells);
+}
+
+// Interior cells of a solved graph over `lattice`: its pockets and free cells on the source side.
+std::vector<uint8_t> InteriorOf(const StereoLattice& lattice, const StereoGraph& graph) {
+  std::vector<uint8_t> inside(lattice.roles.size(), 0);
+  for (size_t c = 0; c < inside.size(); ++c) {
+    inside[c] =
+        lattice.roles[c] == CellRole::kPocket ||
+        (lattice.roles[c] == CellRole::kFree && graph.graph.IsSourceSide(graph.node_of_cell[c]));
+  }
+  return inside;
+}
+
+// What the silhouette step relies on: forcing free cells' nodes to the source and re-solving
+// incrementally gives the cut (cost and cells) of the graph rebuilt with them as pockets.
+TEST(StereoGraph, ForcingNodesMatchesTheRebuiltGraph) {
+  for (int seed = 0; seed < 3; ++seed) {
+    std::mt19937_64 rng(static_cast<uint64_t>(seed));
+    VoteVolume votes = Lattice(32);
+    const Eigen::Vector3d centre(16, 16, 16);
+    VoteSphere(votes, centre, 8.3, 0.6, rng);
+    const VoxelGrid hull =
+        GridOf(votes, [&](const Eigen::Vector3d& p) { return (p - centre).norm() < 13; });
+    StereoLattice lattice = ClassifyLattice(hull, 0.4, 0);
+    StereoGraph incremental = BuildStereoGraph(lattice, votes, 1.0, 0.05);
+    incremental.graph.Solve();
+    std::uniform_int_distribution<size_t> cell(0, lattice.roles.size() - 1);
+    for (int round = 0; round < 3; ++round) {
+      // Free exterior cells, as the silhouette step forces them.
+      const std::vector<uint8_t> before = InteriorOf(lattice, incremental);
+      for (int forced = 0; forced < 40;) {
+        const size_t c = cell(rng);
+        if (lattice.roles[c] != CellRole::kFree || before[c] != 0) continue;
+        lattice.roles[c] = CellRole::kPocket;
+        --lattice.free_cells;
+        ++lattice.pocket_cells;
+        incremental.graph.ForceSourceSide(incremental.node_of_cell[c]);
+        ++forced;
+      }
+      const double cost = incremental.graph.Resolve() + incremental.forced_cost;
+      StereoGraph rebuilt = BuildStereoGraph(lattice, votes, 1.0, 0.05);
+      const double expected = rebuilt.graph.Solve() + rebuilt.forced_cost;
+      EXPECT_NEAR(cost, expected, 1e-9 * expected) << "seed " << seed << " round " << round;
+      EXPECT_TRUE(InteriorOf(lattice, incremental) == InteriorOf(lattice, rebuilt))
+          << "seed " << seed << " round " << round;
+    }
+  }
 }
 
 TEST(VolumetricGraphCut, RecoversASphereOfVotesInsideTheHull) {
