@@ -246,7 +246,7 @@ VolumetricGraphCutOptions StereoGraphCutDefaults() {
   VolumetricGraphCutOptions options;
   options.lambda = 3.0;
   options.ballooning = 0.1;
-  options.silhouette_rounds = 4;
+  options.silhouette_rounds = 6;
   return options;
 }
 

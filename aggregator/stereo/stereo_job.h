@@ -43,8 +43,8 @@ namespace silnet::aggregator {
 
 // The graph cut settings of the job. lambda 3 and ballooning 0.1 are measured on the
 // simulator (16-camera ring, 640x480; docs/PERFORMANCE.md): lambda 1 shrinks the model more
-// (completeness within 2 footprints 74 % against 84 %) for slightly better accuracy. Up to 4
-// silhouette steps: on that ring the missed inner silhouette pixels go 18662, 92, 14, 8.
+// (completeness within 2 footprints 74 % against 84 %) for slightly better accuracy. Up to 6
+// silhouette steps: on that ring the missed inner silhouette pixels go 18662, 92, 3, 0.
 VolumetricGraphCutOptions StereoGraphCutDefaults();
 
 // Inputs, outputs and settings of one run.

@@ -1,6 +1,9 @@
 #include "aggregator/stereo/surface_extraction.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <unordered_set>
 #include <vector>
 
 #include "aggregator/hulls/boundary_mesh.h"
@@ -74,7 +77,38 @@ bool SurfaceExtractionOptions::IsValid(std::string* reason) const {
   return true;
 }
 
-TriangleMesh ExtractCutSurface(const VoxelGrid& interior, const SurfaceExtractionOptions& options) {
+namespace {
+
+// Keeps the vertices at the corners of the `pinned` cells where they are (lo = hi = position).
+void PinCellCorners(const VoxelGrid& grid, const std::vector<size_t>& pinned,
+                    const std::vector<Eigen::Vector3f>& vertices, std::vector<Eigen::Vector3f>& lo,
+                    std::vector<Eigen::Vector3f>& hi) {
+  if (pinned.empty()) return;
+  // Lattice corner (i, j, k) of each vertex, packed; cuberille vertices lie on corners.
+  const auto nx = static_cast<int64_t>(grid.dims[0]) + 1,
+             ny = static_cast<int64_t>(grid.dims[1]) + 1;
+  const auto key = [nx, ny](int64_t i, int64_t j, int64_t k) { return (k * ny + j) * nx + i; };
+  std::unordered_set<int64_t> corners;
+  for (size_t c : pinned) {
+    const auto cell = static_cast<int64_t>(c);
+    const int64_t i = cell % grid.dims[0], j = (cell / grid.dims[0]) % grid.dims[1],
+                  k = cell / (static_cast<int64_t>(grid.dims[0]) * grid.dims[1]);
+    for (int d = 0; d < 8; ++d)
+      corners.insert(key(i + (d & 1), j + ((d >> 1) & 1), k + ((d >> 2) & 1)));
+  }
+  for (size_t v = 0; v < vertices.size(); ++v) {
+    const Eigen::Vector3d lattice = (vertices[v].cast<double>() - grid.origin) / grid.voxel_size;
+    const auto i = static_cast<int64_t>(std::lround(lattice.x())),
+               j = static_cast<int64_t>(std::lround(lattice.y())),
+               k = static_cast<int64_t>(std::lround(lattice.z()));
+    if (corners.count(key(i, j, k)) != 0) lo[v] = hi[v] = vertices[v];
+  }
+}
+
+}  // namespace
+
+TriangleMesh ExtractCutSurface(const VoxelGrid& interior, const SurfaceExtractionOptions& options,
+                               const std::vector<size_t>& pinned) {
   std::string reason;
   SILNET_CHECK_MSG(options.IsValid(&reason), reason);
   TriangleMesh mesh = ExtractBoundaryMesh(interior);
@@ -86,6 +120,7 @@ TriangleMesh ExtractCutSurface(const VoxelGrid& interior, const SurfaceExtractio
     lo[i] = mesh.vertices[i].array() - shift;
     hi[i] = mesh.vertices[i].array() + shift;
   }
+  PinCellCorners(interior, pinned, mesh.vertices, lo, hi);
   for (int it = 0; it < options.smoothing_iterations; ++it) {
     LaplacianStep(neighbours, options.smoothing_lambda, lo, hi, mesh.vertices);
     LaplacianStep(neighbours, options.smoothing_mu, lo, hi, mesh.vertices);

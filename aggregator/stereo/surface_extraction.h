@@ -8,7 +8,9 @@
 // the mesh stays closed and manifold. (The cut's sub-voxel refinement and the Poisson surface
 // of thesis 6.6 come later.)
 
+#include <cstddef>
 #include <string>
+#include <vector>
 
 #include "aggregator/hulls/triangle_mesh.h"
 #include "aggregator/hulls/voxel_grid.h"
@@ -27,7 +29,11 @@ struct SurfaceExtractionOptions {
 };
 
 // The surface of the occupied cells of `interior`, in world coordinates (empty for an empty
-// grid). Options must be valid (CheckError otherwise).
-TriangleMesh ExtractCutSurface(const VoxelGrid& interior, const SurfaceExtractionOptions& options);
+// grid). The corners of the `pinned` cells (indices into `interior`) keep their lattice
+// positions: the smoothing cannot pull the surface off them, so a pixel whose ray crosses a
+// pinned interior cell stays covered by the surface's projection. Options must be valid
+// (CheckError otherwise).
+TriangleMesh ExtractCutSurface(const VoxelGrid& interior, const SurfaceExtractionOptions& options,
+                               const std::vector<size_t>& pinned = {});
 
 }  // namespace silnet::aggregator

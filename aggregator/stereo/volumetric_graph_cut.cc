@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <unordered_set>
+#include <vector>
 
 #include "aggregator/stereo/silhouette_repair.h"
 #include "aggregator/stereo/stereo_graph.h"
@@ -80,19 +82,36 @@ void ForceAndResolve(const std::vector<size_t>& cells, StereoGraph& graph,
   stats.seconds_max_flow += SecondsSince(start);
 }
 
-// Surface of result.interior into result.surface when the options need it.
-void ExtractSurface(const VolumetricGraphCutOptions& options, VolumetricGraphCutResult& result) {
+// Surface of result.interior into result.surface when the options need it, the corners of the
+// `pinned` cells kept on the lattice.
+void ExtractSurface(const VolumetricGraphCutOptions& options, const std::vector<size_t>& pinned,
+                    VolumetricGraphCutResult& result) {
   if (!options.extract_surface && options.silhouette_rounds == 0) return;
   const auto start = Clock::now();
-  result.surface = ExtractCutSurface(result.interior, options.surface);
+  result.surface = ExtractCutSurface(result.interior, options.surface, pinned);
   result.stats.seconds_surface += SecondsSince(start);
 }
 
-// Cells the silhouette step ties to the source for `repair`, marked as pockets in `lattice`
-// (free cells only, each once). A cell forced before whose pixel is still missed was smoothed
-// away (a lone cell, a thin line): its face neighbours in the hull join it, else its 26.
-std::vector<size_t> ForceRepairCells(const SilhouetteRepair& repair, const VoxelGrid& hull,
-                                     StereoLattice& lattice) {
+// Cells whose corners the cut's surface keeps on the lattice (pins), each once.
+struct PinnedCells {
+  std::vector<size_t> cells;
+  std::unordered_set<size_t> set;
+
+  // Adds `c`; false if it was pinned already.
+  bool Pin(size_t c) {
+    if (!set.insert(c).second) return false;
+    cells.push_back(c);
+    return true;
+  }
+};
+
+// What the silhouette step does for each cell of `repair` (the cell chosen on a missed
+// pixel's ray): a free cell is tied to the source (marked as a pocket in `lattice`, returned);
+// an interior cell the surface still misses was smoothed away and is pinned; a pinned one
+// still missed (a lone cell, a thin line) brings its free face neighbours in the hull, else
+// its 26 neighbours.
+std::vector<size_t> RepairCells(const SilhouetteRepair& repair, const VoxelGrid& hull,
+                                StereoLattice& lattice, PinnedCells& pinned) {
   std::vector<size_t> added;
   const auto force = [&lattice, &added](size_t c) {
     if (lattice.roles[c] != CellRole::kFree) return;
@@ -106,6 +125,7 @@ std::vector<size_t> ForceRepairCells(const SilhouetteRepair& repair, const Voxel
       force(c);
       continue;
     }
+    if (pinned.Pin(c)) continue;
     const size_t before = added.size();
     ForEachNeighbour(hull, c, false, force);
     if (added.size() == before) ForEachNeighbour(hull, c, true, force);
@@ -146,9 +166,9 @@ std::string VolumetricGraphCutStats::Brief() const {
   std::string brief = line;
   if (!missed_pixels_per_round.empty()) {
     brief += fmt::format(
-        "; silhouette step: {} rounds, {} cells forced, missed inner pixels {} "
+        "; silhouette step: {} rounds, {} cells forced, {} pinned, missed inner pixels {} "
         "({:.3f} s)",
-        silhouette_rounds, forced_cells, fmt::join(missed_pixels_per_round, " "),
+        silhouette_rounds, forced_cells, pinned_cells, fmt::join(missed_pixels_per_round, " "),
         seconds_silhouette_step);
   }
   return brief;
@@ -197,7 +217,8 @@ VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const Voxel
   StereoGraph graph = BuildAndSolve(lattice, votes, options, stats);
   result.interior = VoxelGrid::Empty(votes.origin, votes.cell_size, votes.dims);
   LabelCells(lattice, graph, result);
-  ExtractSurface(options, result);
+  PinnedCells pinned;
+  ExtractSurface(options, pinned.cells, result);
   for (int round = 0; round < options.silhouette_rounds; ++round) {
     start = Clock::now();
     const SilhouetteRepair repair =
@@ -205,14 +226,18 @@ VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const Voxel
                              options.silhouette_margin_px);
     stats.seconds_silhouette_step += SecondsSince(start);
     stats.missed_pixels_per_round.push_back(repair.missed_pixels);
-    const std::vector<size_t> added = ForceRepairCells(repair, hull, lattice);
+    const size_t pins_before = pinned.cells.size();
+    const std::vector<size_t> added = RepairCells(repair, hull, lattice, pinned);
     stats.forced_cells += added.size();
-    if (added.empty()) break;
+    if (added.empty() && pinned.cells.size() == pins_before) break;
     ++stats.silhouette_rounds;
-    ForceAndResolve(added, graph, stats);
-    LabelCells(lattice, graph, result);
-    ExtractSurface(options, result);
+    if (!added.empty()) {
+      ForceAndResolve(added, graph, stats);
+      LabelCells(lattice, graph, result);
+    }
+    ExtractSurface(options, pinned.cells, result);
   }
+  stats.pinned_cells = pinned.cells.size();
   for (uint8_t inside : result.interior.occupied)
     stats.interior_cells += inside;
   stats.surface_triangles = result.surface.triangles.size();

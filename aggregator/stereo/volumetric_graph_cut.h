@@ -48,8 +48,9 @@ struct CutSilhouettes {
 
 // Sizes and times of one run.
 struct VolumetricGraphCutStats {
-  int silhouette_rounds = 0;                    // silhouette steps that re-solved the cut
-  size_t forced_cells = 0;                      // cells they tied to the source
+  int silhouette_rounds = 0;  // silhouette steps that re-solved the cut or re-pinned it
+  size_t forced_cells = 0;    // cells they tied to the source
+  size_t pinned_cells = 0;    // cells on missed pixels' rays whose corners the surface keeps
   std::vector<size_t> missed_pixels_per_round;  // inner pixels missed before each step
   double seconds_silhouette_step = 0;           // projecting and choosing cells
   size_t lattice_cells = 0;

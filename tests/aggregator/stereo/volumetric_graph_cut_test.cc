@@ -17,6 +17,7 @@
 #include "aggregator/hulls/mesh_check.h"
 #include "aggregator/hulls/ply_io.h"
 #include "aggregator/stereo/stereo_graph.h"
+#include "aggregator/stereo/surface_extraction.h"
 #include "shared/util/check.h"
 #include "tests/support/temp_dir.h"
 
@@ -340,6 +341,35 @@ TEST(VolumetricGraphCut, LatticeFigures) {
   ASSERT_TRUE(cut.success) << cut.reason;
   std::printf("%d^3: %s\n", n, cut.stats.Brief().c_str());
   EXPECT_TRUE(CheckClosedManifold(cut.surface).closed_manifold);
+}
+
+// A rod one cell thick shrinks under the smoothing; the corners of its pinned cells stay on
+// the lattice, the other vertices still move, and the mesh stays closed.
+TEST(ExtractCutSurface, PinnedCellsKeepTheirCorners) {
+  VoxelGrid rod = VoxelGrid::Empty(Eigen::Vector3d(0.1, -0.2, 0.3), 0.01, {12, 5, 5});
+  for (int i = 1; i < 11; ++i)
+    rod.occupied[rod.Index(i, 2, 2)] = 1;
+  const std::vector<size_t> pinned = {rod.Index(5, 2, 2)};
+  const SurfaceExtractionOptions options;
+  const TriangleMesh free = ExtractCutSurface(rod, options);
+  const TriangleMesh held = ExtractCutSurface(rod, options, pinned);
+  ASSERT_EQ(free.vertices.size(), held.vertices.size());
+  EXPECT_TRUE(CheckClosedManifold(held).closed_manifold);
+  size_t on_corners = 0, moved = 0;
+  for (const Eigen::Vector3f& v : held.vertices) {
+    const Eigen::Vector3d lattice = (v.cast<double>() - rod.origin) / rod.voxel_size;
+    const bool corner_of_pinned = std::abs(lattice.x() - 5.5) < 0.51 &&
+                                  std::abs(lattice.y() - 2.5) < 0.51 &&
+                                  std::abs(lattice.z() - 2.5) < 0.51;
+    if (corner_of_pinned && (lattice - lattice.array().round().matrix()).norm() < 1e-4)
+      ++on_corners;
+  }
+  for (size_t v = 0; v < free.vertices.size(); ++v) {
+    const Eigen::Vector3d lattice = (free.vertices[v].cast<double>() - rod.origin) / rod.voxel_size;
+    if ((lattice - lattice.array().round().matrix()).norm() > 0.05) ++moved;
+  }
+  EXPECT_EQ(on_corners, 8u);
+  EXPECT_GT(moved, free.vertices.size() / 2);
 }
 
 }  // namespace
