@@ -24,10 +24,8 @@ struct StereoArgs {
 void PrintEvaluation(const char* name, const StereoMeshSummary& mesh) {
   if (!mesh.evaluation) return;
   std::printf("  %s: %s\n", name, mesh.evaluation->Brief().c_str());
-  if (mesh.evaluation->region) {
-    std::printf("    concave region (hull > %g fp off), %s\n", kConcaveRegionFootprints,
-                mesh.evaluation->region->Brief().c_str());
-  }
+  for (const RegionEvaluation& region : mesh.evaluation->regions)
+    std::printf("    %s: %s\n", region.name.c_str(), region.Brief().c_str());
 }
 
 int RunStereo(const StereoArgs& args) {

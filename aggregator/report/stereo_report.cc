@@ -69,23 +69,40 @@ std::string CompletenessText(const std::vector<Completeness>& completeness) {
   return fmt::format("{}", fmt::join(within, ", "));
 }
 
-// Model and hull over the concave region, when the truth gave one.
-std::string ConcaveTable(const StereoJobResult& result) {
-  const auto region = [](const StereoMeshSummary& m) {
-    return m.evaluation && m.evaluation->region ? &*m.evaluation->region : nullptr;
-  };
-  const RegionEvaluation* model = region(result.model);
-  const RegionEvaluation* hull = region(result.hull);
-  if (model == nullptr || hull == nullptr) return {};
-  HtmlTable table({"mesh", "accuracy (90 %)", "completeness"});
-  table.AddRow({"model", AccuracyText(model->accuracy_m, model->accuracy_footprints),
-                CompletenessText(model->completeness)});
-  table.AddRow({"visual hull", AccuracyText(hull->accuracy_m, hull->accuracy_footprints),
-                CompletenessText(hull->completeness)});
-  return Paragraph(fmt::format("Concave region: the {} true points the visual hull misses by more "
-                               "than {:g} footprints.",
-                               model->truth_points, kConcaveRegionFootprints)) +
-         table.ToHtml();
+// What each region of the truth is, for the report.
+std::string RegionDescription(const RegionEvaluation& region) {
+  if (region.name == kConcaveRegion) {
+    return fmt::format(
+        "Concave region: the {} true points the visual hull misses by more than "
+        "{:g} footprints.",
+        region.truth_points, kConcaveRegionFootprints);
+  }
+  if (region.name == kTJunctionRegion) {
+    return fmt::format(
+        "T-junctions: the {} true points near a view's rim that project within "
+        "3 px of an inward corner of its silhouette (where one part's outline "
+        "ends against another's).",
+        region.truth_points);
+  }
+  return fmt::format("{}: {} true points.", region.name, region.truth_points);
+}
+
+// Model and hull over each region of the truth, when the truth gave them.
+std::string RegionTables(const StereoJobResult& result) {
+  if (!result.model.evaluation || !result.hull.evaluation) return {};
+  std::string html;
+  for (const RegionEvaluation& model : result.model.evaluation->regions) {
+    const RegionEvaluation* hull = result.hull.evaluation->Region(model.name);
+    HtmlTable table({"mesh", "accuracy (90 %)", "completeness"});
+    table.AddRow({"model", AccuracyText(model.accuracy_m, model.accuracy_footprints),
+                  CompletenessText(model.completeness)});
+    if (hull != nullptr) {
+      table.AddRow({"visual hull", AccuracyText(hull->accuracy_m, hull->accuracy_footprints),
+                    CompletenessText(hull->completeness)});
+    }
+    html += Paragraph(RegionDescription(model)) + table.ToHtml();
+  }
+  return html;
 }
 
 std::string MeshTable(const StereoJobResult& result) {
@@ -108,7 +125,7 @@ std::string MeshTable(const StereoJobResult& result) {
   };
   add("model", result.model);
   add("visual hull", result.hull);
-  return table.ToHtml("no mesh") + ConcaveTable(result) +
+  return table.ToHtml("no mesh") + RegionTables(result) +
          Paragraph(
              "Silhouette pixels count when their centre lies at least 1 px inside the "
              "outline (missed) or outside it (covered); an exactly silhouette-consistent "

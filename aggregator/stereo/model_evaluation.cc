@@ -153,6 +153,13 @@ std::string RegionEvaluation::Brief() const {
   return text;
 }
 
+const RegionEvaluation* ModelEvaluation::Region(const std::string& name) const {
+  for (const RegionEvaluation& region : regions) {
+    if (region.name == name) return &region;
+  }
+  return nullptr;
+}
+
 std::string ModelEvaluation::Brief() const {
   std::string text = fmt::format("accuracy {:.2f} mm ({:.2f} fp), completeness", accuracy_m * 1e3,
                                  accuracy_footprints);
@@ -202,12 +209,13 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
                               const std::vector<Eigen::Vector3d>& truth_points,
                               const std::vector<Eigen::Vector3d>& truth_normals,
                               const ModelEvaluationOptions& options,
-                              const std::vector<uint8_t>* region,
+                              const std::vector<SurfaceRegion>& regions,
                               std::vector<double>* truth_distances) {
   std::string why;
   SILNET_CHECK_MSG(options.IsValid(&why), why);
   SILNET_CHECK(truth_points.size() == truth_normals.size());
-  SILNET_CHECK(region == nullptr || region->size() == truth_points.size());
+  for (const SurfaceRegion& region : regions)
+    SILNET_CHECK_MSG(region.truth.size() == truth_points.size(), region.name);
   if (truth_distances != nullptr)
     truth_distances->assign(truth_points.size(), std::numeric_limits<double>::infinity());
   ModelEvaluation result;
@@ -228,12 +236,14 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
   const SurfaceSample sample =
       SampleSurfaceBySpacing(model, result.sample_spacing, options.random_seed);
   result.model_samples = sample.points.size();
-  if (region != nullptr) {
-    result.region = RegionEvaluation{};
-    result.region->truth_points = static_cast<size_t>(
-        std::count_if(region->begin(), region->end(), [](uint8_t r) { return r != 0; }));
-    result.region->accuracy_m = result.region->accuracy_footprints = result.accuracy_m;
-    result.region->completeness = result.completeness;
+  for (const SurfaceRegion& region : regions) {
+    RegionEvaluation empty;
+    empty.name = region.name;
+    empty.truth_points = static_cast<size_t>(
+        std::count_if(region.truth.begin(), region.truth.end(), [](uint8_t r) { return r != 0; }));
+    empty.accuracy_m = empty.accuracy_footprints = result.accuracy_m;
+    empty.completeness = result.completeness;
+    result.regions.push_back(empty);
   }
   if (sample.points.empty() || truth_points.empty()) return result;
 
@@ -256,12 +266,15 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
                        result.sample_spacing, options.neighbours);
   for (Completeness& c : result.completeness)
     c.fraction = FractionWithin(to_model, c.distance_m);
-  if (region != nullptr) {
+  if (!regions.empty()) {
     std::vector<int> nearest_truth;
     std::vector<double> unused;
     truth_tree.KNearest(sample.points, 1, &nearest_truth, &unused);
-    result.region =
-        EvaluateRegion(*region, nearest_truth, to_truth, to_model, options, result.completeness);
+    for (size_t r = 0; r < regions.size(); ++r) {
+      result.regions[r] = EvaluateRegion(regions[r].truth, nearest_truth, to_truth, to_model,
+                                         options, result.completeness);
+      result.regions[r].name = regions[r].name;
+    }
   }
   if (truth_distances != nullptr) *truth_distances = to_model;
   return result;

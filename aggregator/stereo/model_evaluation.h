@@ -28,7 +28,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <opencv2/core/mat.hpp>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,6 +62,7 @@ struct Completeness {
 // hull cannot reach): completeness over the region's true points, accuracy over the model
 // samples whose nearest true point lies in the region.
 struct RegionEvaluation {
+  std::string name;          // as the SurfaceRegion's
   size_t truth_points = 0;   // true points in the region
   size_t model_samples = 0;  // model samples nearest to one of them
   double accuracy_m = 0.0;   // infinite if no model sample is near the region
@@ -71,6 +71,12 @@ struct RegionEvaluation {
 
   // One line like ModelEvaluation::Brief, prefixed by the region's size.
   std::string Brief() const;
+};
+
+// A named part of the true surface: one flag per true point, non-zero = in the region.
+struct SurfaceRegion {
+  std::string name;
+  std::vector<uint8_t> truth;
 };
 
 // The measures of one model.
@@ -84,10 +90,12 @@ struct ModelEvaluation {
   double accuracy_footprints = 0.0;
   double mean_distance_m = 0.0;            // mean model-to-truth distance
   std::vector<Completeness> completeness;  // one per options.completeness_footprints
-  std::optional<RegionEvaluation> region;  // when a region was given
+  std::vector<RegionEvaluation> regions;   // one per region given, in order
 
   // One line: "accuracy 6.2 mm (1.06 fp), completeness 61.0 % / 73.9 % within 1 / 2 fp".
   std::string Brief() const;
+  // The region of that name, or null.
+  const RegionEvaluation* Region(const std::string& name) const;
 };
 
 // Points spread uniformly by area over `mesh` (about one per spacing^2, at least one per
@@ -99,15 +107,15 @@ struct SurfaceSample {
 SurfaceSample SampleSurfaceBySpacing(const TriangleMesh& mesh, double spacing, uint64_t seed);
 
 // Accuracy and completeness of `model` (world metres) against the true points and unit
-// normals (same length). With `region` (one flag per true point, non-zero = in the region)
-// the measures restricted to it as well; with `truth_distances` each true point's distance
+// normals (same length), and restricted to each of `regions` (flags as long as the truth);
+// with `truth_distances` each true point's distance
 // to the model (as completeness counts it, metres). Throws CheckError for invalid options or
 // mismatched lengths; an empty model or truth gives infinite accuracy and zero completeness.
 ModelEvaluation EvaluateModel(const TriangleMesh& model,
                               const std::vector<Eigen::Vector3d>& truth_points,
                               const std::vector<Eigen::Vector3d>& truth_normals,
                               const ModelEvaluationOptions& options,
-                              const std::vector<uint8_t>* region = nullptr,
+                              const std::vector<SurfaceRegion>& regions = {},
                               std::vector<double>* truth_distances = nullptr);
 
 // The silhouette consistency of a model in one view.

@@ -19,6 +19,7 @@
 #include "aggregator/stereo/middlebury_dataset.h"
 #include "aggregator/stereo/model_render.h"
 #include "aggregator/stereo/stills_folder.h"
+#include "aggregator/stereo/t_junction_region.h"
 #include "shared/io/png_writer.h"
 #include "shared/io/point_cloud_ply.h"
 #include "shared/util/check.h"
@@ -81,26 +82,39 @@ ModelEvaluationOptions EvaluationOptions(const Truth& truth, double footprint) {
 }
 
 // The true points farther than kConcaveRegionFootprints from the hull: where it cannot reach.
-std::vector<uint8_t> ConcaveRegion(const TriangleMesh& hull, const Truth& truth, double footprint) {
+SurfaceRegion ConcaveRegion(const TriangleMesh& hull, const Truth& truth, double footprint) {
   std::vector<double> to_hull;
-  EvaluateModel(hull, truth.points, truth.normals, EvaluationOptions(truth, footprint), nullptr,
+  EvaluateModel(hull, truth.points, truth.normals, EvaluationOptions(truth, footprint), {},
                 &to_hull);
-  std::vector<uint8_t> region(to_hull.size());
+  SurfaceRegion region{kConcaveRegion, std::vector<uint8_t>(to_hull.size())};
   for (size_t i = 0; i < to_hull.size(); ++i)
-    region[i] = to_hull[i] > kConcaveRegionFootprints * footprint ? 1 : 0;
+    region.truth[i] = to_hull[i] > kConcaveRegionFootprints * footprint ? 1 : 0;
   return region;
 }
 
+// The regions of the truth measured separately: concave (ConcaveRegion) and the surface
+// forming the silhouettes' T-junctions (t_junction_region.h) in the views.
+std::vector<SurfaceRegion> TruthRegions(const TriangleMesh& hull, const Truth& truth,
+                                        double footprint, const std::vector<StereoView>& views) {
+  std::vector<CameraModel> cameras;
+  std::vector<cv::Mat> masks;
+  for (const StereoView& view : views) {
+    cameras.push_back(view.camera);
+    masks.push_back(view.mask);
+  }
+  return {ConcaveRegion(hull, truth, footprint),
+          {kTJunctionRegion, TJunctionRegion(truth.points, truth.normals, cameras, masks)}};
+}
+
 // Fills the silhouette figures and the measures against the truth, over all of it and over
-// `concave` (when not empty).
+// each of `regions`.
 void Evaluate(const TriangleMesh& mesh, const std::vector<StereoView>& views,
               const std::optional<Truth>& truth, double footprint,
-              const std::vector<uint8_t>& concave, StereoMeshSummary* summary) {
+              const std::vector<SurfaceRegion>& regions, StereoMeshSummary* summary) {
   summary->views = MeasureSilhouetteConsistency(mesh, views);
   if (!truth || !(footprint > 0)) return;
-  summary->evaluation =
-      EvaluateModel(mesh, truth->points, truth->normals, EvaluationOptions(*truth, footprint),
-                    concave.empty() ? nullptr : &concave);
+  summary->evaluation = EvaluateModel(mesh, truth->points, truth->normals,
+                                      EvaluationOptions(*truth, footprint), regions);
 }
 
 bool Cancelled(const Progress* progress, StereoJobResult* result) {
@@ -126,19 +140,21 @@ void WriteEvaluation(cv::FileStorage& fs, const ModelEvaluation& e) {
        << "fraction" << c.fraction << "}";
   }
   fs << "]";
-  if (e.region) {
-    const RegionEvaluation& r = *e.region;
-    fs << "concave_region"
-       << "{"
-       << "beyond_hull_footprints" << kConcaveRegionFootprints << "truth_points"
-       << AsInt(r.truth_points) << "accuracy_mm" << r.accuracy_m * 1e3 << "accuracy_footprints"
-       << r.accuracy_footprints << "completeness"
-       << "[";
-    for (const Completeness& c : r.completeness)
-      fs << "{"
-         << "within_footprints" << c.distance_footprints << "fraction" << c.fraction << "}";
-    fs << "]"
-       << "}";
+  if (!e.regions.empty()) {
+    fs << "regions"
+       << "{";
+    for (const RegionEvaluation& r : e.regions) {
+      fs << r.name << "{"
+         << "truth_points" << AsInt(r.truth_points) << "accuracy_mm" << r.accuracy_m * 1e3
+         << "accuracy_footprints" << r.accuracy_footprints << "completeness"
+         << "[";
+      for (const Completeness& c : r.completeness)
+        fs << "{"
+           << "within_footprints" << c.distance_footprints << "fraction" << c.fraction << "}";
+      fs << "]"
+         << "}";
+    }
+    fs << "}";
   }
   fs << "}";
 }
@@ -383,12 +399,12 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   // Evaluation.
   stage = Clock::now();
   if (progress) progress->Restart("evaluation", 2);
-  const std::vector<uint8_t> concave = truth && result.footprint > 0
-                                           ? ConcaveRegion(hull.mesh, *truth, result.footprint)
-                                           : std::vector<uint8_t>();
-  Evaluate(hull.mesh, views.views, truth, result.footprint, concave, &result.hull);
+  const std::vector<SurfaceRegion> regions =
+      truth && result.footprint > 0 ? TruthRegions(hull.mesh, *truth, result.footprint, views.views)
+                                    : std::vector<SurfaceRegion>();
+  Evaluate(hull.mesh, views.views, truth, result.footprint, regions, &result.hull);
   if (progress) progress->Advance();
-  Evaluate(cut.surface, views.views, truth, result.footprint, concave, &result.model);
+  Evaluate(cut.surface, views.views, truth, result.footprint, regions, &result.model);
   if (progress) progress->Advance();
   result.seconds.evaluation = SecondsSince(stage);
   if (Cancelled(progress, &result)) return finish();

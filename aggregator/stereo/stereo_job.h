@@ -13,8 +13,9 @@
 //   evaluation         per view silhouette consistency of model and hull (model_evaluation.h)
 //                      and, when the folder has gt_surface.ply (simulated stills), accuracy
 //                      and completeness of model and hull against it, over the whole surface
-//                      and over its concave region (the true points the hull misses by more
-//                      than kConcaveRegionFootprints)
+//                      and over two regions of it: "concave" (the true points the hull misses
+//                      by more than kConcaveRegionFootprints) and "t_junctions" (the surface
+//                      forming the silhouettes' T-junctions, t_junction_region.h)
 // Output in OUT (created if missing):
 //   model.ply    the model, binary PLY (ply_io.h), written only if it is closed and manifold
 //   hull.ply     the visual hull the model was cut from
@@ -97,6 +98,9 @@ struct StereoJobResult {
 // Where the visual hull lies farther than this from the true surface (pixel footprints), the
 // surface counts as concave: the region the issue asks stereo to be far better than the hull.
 inline constexpr double kConcaveRegionFootprints = 2.0;
+// Names of the regions of the true surface measured separately.
+inline constexpr const char* kConcaveRegion = "concave";
+inline constexpr const char* kTJunctionRegion = "t_junctions";
 
 // Width in pixels of each of the three panels of a view picture (smaller images are kept).
 inline constexpr int kViewPicturePanelWidth = 480;

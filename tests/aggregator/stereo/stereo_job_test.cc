@@ -149,20 +149,21 @@ TEST(ModelEvaluationTest, RegionMeasuresOnlyItsPartOfTheSurface) {
   // The truth's upper half lies 1 cm beyond the model; the region is that half.
   std::vector<Eigen::Vector3d> points, normals;
   SpherePoints(radius, 40000, &points, &normals);
-  std::vector<uint8_t> upper(points.size(), 0);
+  SurfaceRegion upper{"upper", std::vector<uint8_t>(points.size(), 0)};
   for (size_t i = 0; i < points.size(); ++i) {
     if (points[i].z() <= kCentre.z()) continue;
-    upper[i] = 1;
+    upper.truth[i] = 1;
     points[i] += 0.01 * normals[i];
   }
   std::vector<double> distances;
-  const ModelEvaluation e = EvaluateModel(sphere, points, normals, options, &upper, &distances);
-  ASSERT_TRUE(e.region.has_value());
-  std::printf("[ evaluation ] region: %s\n", e.region->Brief().c_str());
-  EXPECT_NEAR(static_cast<double>(e.region->truth_points), 20000, 600);
-  EXPECT_NEAR(e.region->accuracy_m, 0.01, 1e-3);
-  EXPECT_EQ(e.region->completeness[0].fraction, 0.0);
-  EXPECT_GT(e.region->completeness[1].fraction, 0.99);
+  const ModelEvaluation e = EvaluateModel(sphere, points, normals, options, {upper}, &distances);
+  const RegionEvaluation* region = e.Region("upper");
+  ASSERT_NE(region, nullptr);
+  std::printf("[ evaluation ] region: %s\n", region->Brief().c_str());
+  EXPECT_NEAR(static_cast<double>(region->truth_points), 20000, 600);
+  EXPECT_NEAR(region->accuracy_m, 0.01, 1e-3);
+  EXPECT_EQ(region->completeness[0].fraction, 0.0);
+  EXPECT_GT(region->completeness[1].fraction, 0.99);
   EXPECT_NEAR(e.completeness[0].fraction, 0.5, 0.03);
   ASSERT_EQ(distances.size(), points.size());
   for (size_t i = 0; i < points.size(); i += 97) {
@@ -412,14 +413,21 @@ StereoJobResult RunSixteenViews(sim::RigLayout layout) {
   EXPECT_GT(inner, 100000u);
   EXPECT_EQ(missed, 0u);
   EXPECT_EQ(covered_outer, 0u);
-  EXPECT_TRUE(model.region && hull.region);
-  if (!model.region || !hull.region) return result;
-  std::printf("[ stereo job ] concave region: model %s; hull %s\n", model.region->Brief().c_str(),
-              hull.region->Brief().c_str());
-  EXPECT_GT(model.region->truth_points, 1000u);
-  EXPECT_LT(model.region->accuracy_footprints, 0.5 * hull.region->accuracy_footprints);
-  EXPECT_GT(model.region->completeness[1].fraction, 0.7);
-  EXPECT_EQ(hull.region->completeness[1].fraction, 0.0);
+  const RegionEvaluation* concave = model.Region(kConcaveRegion);
+  const RegionEvaluation* hull_concave = hull.Region(kConcaveRegion);
+  const RegionEvaluation* junctions = model.Region(kTJunctionRegion);
+  EXPECT_TRUE(concave && hull_concave && junctions);
+  if (!concave || !hull_concave || !junctions) return result;
+  std::printf("[ stereo job ] concave: model %s; hull %s\n", concave->Brief().c_str(),
+              hull_concave->Brief().c_str());
+  std::printf("[ stereo job ] T-junctions: model %s\n", junctions->Brief().c_str());
+  EXPECT_GT(concave->truth_points, 1000u);
+  EXPECT_LT(concave->accuracy_footprints, 0.5 * hull_concave->accuracy_footprints);
+  EXPECT_GT(concave->completeness[1].fraction, 0.7);
+  EXPECT_EQ(hull_concave->completeness[1].fraction, 0.0);
+  // No sheets or spikes where the silhouettes have T-junctions: within 2x the whole model.
+  EXPECT_GT(junctions->truth_points, 500u);
+  EXPECT_LE(junctions->accuracy_footprints, 2 * model.accuracy_footprints);
   return result;
 }
 
