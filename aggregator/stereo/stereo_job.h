@@ -37,6 +37,7 @@
 
 #include "aggregator/stereo/model_evaluation.h"
 #include "aggregator/stereo/photo_consistency.h"
+#include "aggregator/stereo/stereo_truth.h"
 #include "aggregator/stereo/volumetric_graph_cut.h"
 #include "shared/util/progress.h"
 
@@ -94,13 +95,6 @@ struct StereoJobResult {
   StereoStageTimes seconds;
   std::vector<std::string> view_pictures;  // views/<camera>.png, relative to the output folder
 };
-
-// Where the visual hull lies farther than this from the true surface (pixel footprints), the
-// surface counts as concave: the region the issue asks stereo to be far better than the hull.
-inline constexpr double kConcaveRegionFootprints = 2.0;
-// Names of the regions of the true surface measured separately.
-inline constexpr const char* kConcaveRegion = "concave";
-inline constexpr const char* kTJunctionRegion = "t_junctions";
 
 // Width in pixels of each of the three panels of a view picture (smaller images are kept).
 inline constexpr int kViewPicturePanelWidth = 480;

@@ -1,0 +1,143 @@
+// stereo.yaml: what the stereo job did, for tools and tests (the layout WriteStereoSummary in
+// stereo_job.h writes).
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <opencv2/core/persistence.hpp>
+
+#include "aggregator/stereo/stereo_job.h"
+#include "aggregator/stereo/stereo_truth.h"
+#include "shared/util/check.h"
+
+namespace silnet::aggregator {
+namespace {
+
+int AsInt(size_t value) {
+  return static_cast<int>(std::min<size_t>(value, static_cast<size_t>(INT32_MAX)));
+}
+
+void WriteEvaluation(cv::FileStorage& fs, const ModelEvaluation& e) {
+  fs << "{"
+     << "accuracy_mm" << e.accuracy_m * 1e3 << "accuracy_footprints" << e.accuracy_footprints
+     << "mean_distance_mm" << e.mean_distance_m * 1e3 << "model_samples" << AsInt(e.model_samples)
+     << "completeness"
+     << "[";
+  for (const Completeness& c : e.completeness) {
+    fs << "{"
+       << "within_footprints" << c.distance_footprints << "within_mm" << c.distance_m * 1e3
+       << "fraction" << c.fraction << "}";
+  }
+  fs << "]";
+  if (!e.regions.empty()) {
+    fs << "regions"
+       << "{";
+    for (const RegionEvaluation& r : e.regions) {
+      fs << r.name << "{"
+         << "truth_points" << AsInt(r.truth_points) << "accuracy_mm" << r.accuracy_m * 1e3
+         << "accuracy_footprints" << r.accuracy_footprints << "completeness"
+         << "[";
+      for (const Completeness& c : r.completeness)
+        fs << "{"
+           << "within_footprints" << c.distance_footprints << "fraction" << c.fraction << "}";
+      fs << "]"
+         << "}";
+    }
+    fs << "}";
+  }
+  fs << "}";
+}
+
+void WriteMesh(cv::FileStorage& fs, const std::string& name, const StereoMeshSummary& m) {
+  fs << name << "{"
+     << "file" << m.file << "vertices" << AsInt(m.vertices) << "faces" << AsInt(m.triangles)
+     << "closed_manifold" << static_cast<int>(m.closed_manifold) << "volume_m3" << m.volume_m3;
+  size_t missed = 0, covered = 0;
+  for (const SilhouetteConsistency& v : m.views) {
+    missed += v.missed_inner;
+    covered += v.covered_outer;
+  }
+  if (!m.views.empty()) {
+    fs << "missed_inner_pixels" << AsInt(missed) << "covered_outer_pixels" << AsInt(covered);
+  }
+  if (m.evaluation) {
+    fs << "evaluation";
+    WriteEvaluation(fs, *m.evaluation);
+  }
+  fs << "}";
+}
+
+}  // namespace
+
+void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& result) {
+  const std::filesystem::path path = config.output / "stereo.yaml";
+  cv::FileStorage fs(path.string(), cv::FileStorage::WRITE);
+  if (!fs.isOpened()) throw InputError(fmt::format("cannot write {}", path.string()));
+  fs << "format_version" << 1;
+  fs << "input" << config.input.string() << "calibration" << config.calibration.string() << "still"
+     << config.still;
+  fs << "success" << static_cast<int>(result.success);
+  if (!result.success) fs << "reason" << result.reason;
+  fs << "method"
+     << fmt::format("volumetric graph cut (thesis 5.4.1){}",
+                    config.graph_cut.silhouette_rounds > 0
+                        ? fmt::format(", up to {} silhouette steps (7.4.2)",
+                                      config.graph_cut.silhouette_rounds)
+                        : "");
+  const PhotoConsistencyOptions& photo = config.photo_consistency;
+  const VolumetricGraphCutOptions& cut = config.graph_cut;
+  fs << "settings"
+     << "{"
+     << "neighbours" << photo.neighbours.count << "window" << photo.matching.window << "min_ncc"
+     << photo.matching.min_ncc << "pixel_step" << photo.pixel_step << "cell_size_footprints"
+     << photo.cell_size_footprints << "lambda" << cut.lambda << "ballooning" << cut.ballooning
+     << "inner_offset_fraction" << cut.inner_offset_fraction << "threads" << config.threads << "}";
+  fs << "views" << AsInt(result.views) << "warnings"
+     << "[";
+  for (const std::string& warning : result.warnings)
+    fs << warning;
+  fs << "]";
+  fs << "footprint_mm" << result.footprint * 1e3;
+  fs << "lattice"
+     << "{"
+     << "dims"
+     << "[" << result.lattice_dims[0] << result.lattice_dims[1] << result.lattice_dims[2] << "]"
+     << "cell_size_mm" << result.cell_size * 1e3 << "votes_in_hull"
+     << AsInt(result.photo_consistency.votes_in_hull) << "matches"
+     << AsInt(result.photo_consistency.matches) << "}";
+  const VolumetricGraphCutStats& g = result.graph_cut;
+  fs << "graph"
+     << "{"
+     << "hull_cells" << AsInt(g.hull_cells) << "pocket_cells" << AsInt(g.pocket_cells) << "nodes"
+     << AsInt(g.nodes) << "n_links" << AsInt(g.n_links) << "t_link_faces" << AsInt(g.t_link_faces)
+     << "interior_cells" << AsInt(g.interior_cells) << "silhouette_rounds" << g.silhouette_rounds
+     << "forced_cells" << AsInt(g.forced_cells) << "graph_bytes"
+     << static_cast<double>(g.graph_bytes) << "lattice_bytes"
+     << static_cast<double>(g.lattice_bytes) << "cut_cost" << g.cut_cost << "}";
+  const StereoStageTimes& s = result.seconds;
+  fs << "seconds"
+     << "{"
+     << "load" << s.load << "hull" << s.hull << "photo_consistency" << s.photo_consistency
+     << "graph_cut" << s.graph_cut << "evaluation" << s.evaluation << "pictures" << s.pictures
+     << "total" << s.total << "}";
+  WriteMesh(fs, "hull", result.hull);
+  WriteMesh(fs, "model", result.model);
+  fs << "silhouettes"
+     << "[";
+  for (size_t v = 0; v < result.model.views.size(); ++v) {
+    const SilhouetteConsistency& m = result.model.views[v];
+    fs << "{"
+       << "camera" << m.camera_id << "silhouette_pixels" << AsInt(m.silhouette_pixels)
+       << "inner_pixels" << AsInt(m.inner_pixels) << "missed_inner" << AsInt(m.missed_inner)
+       << "outer_pixels" << AsInt(m.outer_pixels) << "covered_outer" << AsInt(m.covered_outer);
+    if (v < result.hull.views.size()) {
+      fs << "hull_missed_inner" << AsInt(result.hull.views[v].missed_inner) << "hull_covered_outer"
+         << AsInt(result.hull.views[v].covered_outer);
+    }
+    fs << "}";
+  }
+  fs << "]";
+}
+
+}  // namespace silnet::aggregator
