@@ -44,13 +44,15 @@ std::filesystem::path GenerateMaskCapture(const testing::TempDir& work, int fram
   return status == std::optional<int>(0) ? dataset : std::filesystem::path();
 }
 
-// `silnet-sim run-nodes`: a node per camera replaying its masks at twice the frame rate.
+// `silnet-sim run-nodes`: a node per camera replaying its masks at twice the frame rate,
+// lossless (capture waits for segmentation): on a busy machine a node would otherwise drop
+// frames, and the calibration's figures would depend on the machine's load.
 testing::ChildProcess StartMaskNodes(const testing::TempDir& work,
                                      const std::filesystem::path& dataset, int linger_s) {
   return testing::ChildProcess(
       kBin / "sim/silnet-sim",
       {"run-nodes", dataset.string(), "--masks", "--speed", "2", "--linger",
-       std::to_string(linger_s), "--logs", (work / "node-logs").string()},
+       std::to_string(linger_s), "--logs", (work / "node-logs").string(), "--node-arg=--lossless"},
       work.path());
 }
 
