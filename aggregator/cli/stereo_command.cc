@@ -47,19 +47,15 @@ int RunStereo(const StereoArgs& args) {
                 result.seconds.total, args.out.c_str());
     return 3;
   }
-  size_t missed = 0, covered = 0;
-  for (const SilhouetteConsistency& v : result.model.views) {
-    missed += v.missed_inner;
-    covered += v.covered_outer;
-  }
   std::printf(
       "stereo: %zu views, model %zu triangles, lattice %dx%dx%d of %.2f mm, %zu graph nodes; "
       "silhouette pixels >= 1 px inside missed %zu, outside covered %zu; %.1f s "
       "(hull %.1f, photo-consistency %.1f, graph cut %.1f) -> %s/model.ply\n",
       result.views, result.model.triangles, result.lattice_dims[0], result.lattice_dims[1],
-      result.lattice_dims[2], result.cell_size * 1e3, result.graph_cut.nodes, missed, covered,
-      result.seconds.total, result.seconds.hull, result.seconds.photo_consistency,
-      result.seconds.graph_cut, args.out.c_str());
+      result.lattice_dims[2], result.cell_size * 1e3, result.graph_cut.nodes,
+      result.model.MissedInner(), result.model.CoveredOuter(), result.seconds.total,
+      result.seconds.hull, result.seconds.photo_consistency, result.seconds.graph_cut,
+      args.out.c_str());
   PrintEvaluation("model", result.model);
   PrintEvaluation("visual hull", result.hull);
   return 0;

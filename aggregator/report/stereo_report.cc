@@ -47,16 +47,6 @@ std::string JobSummary(const StereoJobConfig& config, const StereoJobResult& res
   return html;
 }
 
-// Sums of the per view silhouette figures: missed inner and covered outer pixels.
-std::pair<size_t, size_t> SilhouetteTotals(const StereoMeshSummary& mesh) {
-  size_t missed = 0, covered = 0;
-  for (const SilhouetteConsistency& v : mesh.views) {
-    missed += v.missed_inner;
-    covered += v.covered_outer;
-  }
-  return {missed, covered};
-}
-
 // "6.20 mm (1.06 fp)" and "61.0 % within 1 fp, 73.9 % within 2 fp".
 std::string AccuracyText(double metres, double footprints) {
   return fmt::format("{:.2f} mm ({:.2f} fp)", metres * 1e3, footprints);
@@ -111,7 +101,6 @@ std::string MeshTable(const StereoJobResult& result) {
                    "completeness"});
   const auto add = [&table](const std::string& name, const StereoMeshSummary& m) {
     if (m.triangles == 0) return;
-    const auto [missed, covered] = SilhouetteTotals(m);
     std::string accuracy = kNone, completeness = kNone;
     if (m.evaluation) {
       accuracy = AccuracyText(m.evaluation->accuracy_m, m.evaluation->accuracy_footprints);
@@ -119,8 +108,9 @@ std::string MeshTable(const StereoJobResult& result) {
     }
     table.AddRow(
         {name, std::to_string(m.triangles), m.closed_manifold ? "yes" : "no",
-         fmt::format("{:.1f}", m.volume_m3 * 1e6), m.views.empty() ? kNone : std::to_string(missed),
-         m.views.empty() ? kNone : std::to_string(covered), accuracy, completeness},
+         fmt::format("{:.1f}", m.volume_m3 * 1e6),
+         m.views.empty() ? kNone : std::to_string(m.MissedInner()),
+         m.views.empty() ? kNone : std::to_string(m.CoveredOuter()), accuracy, completeness},
         m.closed_manifold ? "" : "bad");
   };
   add("model", result.model);

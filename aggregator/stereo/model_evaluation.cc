@@ -85,34 +85,6 @@ double FractionWithin(const std::vector<double>& distances, double within) {
   return static_cast<double>(count) / static_cast<double>(distances.size());
 }
 
-// The region's measures from the distances of the model samples (to the truth) and of the
-// true points (to the model); `nearest_truth` is each sample's nearest true point.
-RegionEvaluation EvaluateRegion(const std::vector<uint8_t>& region,
-                                const std::vector<int>& nearest_truth,
-                                const std::vector<double>& sample_to_truth,
-                                const std::vector<double>& truth_to_model,
-                                const ModelEvaluationOptions& options,
-                                const std::vector<Completeness>& distances) {
-  RegionEvaluation result;
-  std::vector<double> samples, truths;
-  for (size_t s = 0; s < nearest_truth.size(); ++s) {
-    const int t = nearest_truth[s];
-    if (t >= 0 && region[static_cast<size_t>(t)] != 0) samples.push_back(sample_to_truth[s]);
-  }
-  for (size_t t = 0; t < region.size(); ++t) {
-    if (region[t] != 0) truths.push_back(truth_to_model[t]);
-  }
-  result.truth_points = truths.size();
-  result.model_samples = samples.size();
-  result.accuracy_m = Quantile(samples, options.accuracy_fraction);
-  result.accuracy_footprints = result.accuracy_m / options.footprint;
-  for (Completeness c : distances) {
-    c.fraction = FractionWithin(truths, c.distance_m);
-    result.completeness.push_back(c);
-  }
-  return result;
-}
-
 }  // namespace
 
 bool ModelEvaluationOptions::IsValid(std::string* reason) const {
@@ -151,6 +123,30 @@ std::string RegionEvaluation::Brief() const {
   for (const Completeness& c : completeness)
     text += fmt::format(" {:.1f} % within {:g} fp", 100 * c.fraction, c.distance_footprints);
   return text;
+}
+
+RegionEvaluation EvaluateRegion(const SurfaceRegion& region, const ModelDistances& distances,
+                                const ModelEvaluationOptions& options) {
+  SILNET_CHECK_MSG(region.truth.size() == distances.truth_to_model.size(), region.name);
+  RegionEvaluation result;
+  result.name = region.name;
+  std::vector<double> samples, truths;
+  for (size_t s = 0; s < distances.nearest_truth.size(); ++s) {
+    const int t = distances.nearest_truth[s];
+    if (t >= 0 && region.truth[static_cast<size_t>(t)] != 0)
+      samples.push_back(distances.sample_to_truth[s]);
+  }
+  for (size_t t = 0; t < region.truth.size(); ++t) {
+    if (region.truth[t] != 0) truths.push_back(distances.truth_to_model[t]);
+  }
+  result.truth_points = truths.size();
+  result.model_samples = samples.size();
+  result.accuracy_m = Quantile(samples, options.accuracy_fraction);
+  result.accuracy_footprints = result.accuracy_m / options.footprint;
+  for (double d : options.completeness_footprints)
+    result.completeness.push_back(
+        {d * options.footprint, d, FractionWithin(truths, d * options.footprint)});
+  return result;
 }
 
 const RegionEvaluation* ModelEvaluation::Region(const std::string& name) const {
@@ -210,14 +206,12 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
                               const std::vector<Eigen::Vector3d>& truth_normals,
                               const ModelEvaluationOptions& options,
                               const std::vector<SurfaceRegion>& regions,
-                              std::vector<double>* truth_distances) {
+                              ModelDistances* distances) {
   std::string why;
   SILNET_CHECK_MSG(options.IsValid(&why), why);
   SILNET_CHECK(truth_points.size() == truth_normals.size());
   for (const SurfaceRegion& region : regions)
     SILNET_CHECK_MSG(region.truth.size() == truth_points.size(), region.name);
-  if (truth_distances != nullptr)
-    truth_distances->assign(truth_points.size(), std::numeric_limits<double>::infinity());
   ModelEvaluation result;
   result.footprint = options.footprint;
   result.truth_points = truth_points.size();
@@ -236,23 +230,22 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
   const SurfaceSample sample =
       SampleSurfaceBySpacing(model, result.sample_spacing, options.random_seed);
   result.model_samples = sample.points.size();
-  for (const SurfaceRegion& region : regions) {
-    RegionEvaluation empty;
-    empty.name = region.name;
-    empty.truth_points = static_cast<size_t>(
-        std::count_if(region.truth.begin(), region.truth.end(), [](uint8_t r) { return r != 0; }));
-    empty.accuracy_m = empty.accuracy_footprints = result.accuracy_m;
-    empty.completeness = result.completeness;
-    result.regions.push_back(empty);
-  }
-  if (sample.points.empty() || truth_points.empty()) return result;
+  ModelDistances measured;
+  measured.truth_to_model.assign(truth_points.size(), std::numeric_limits<double>::infinity());
+  const auto finish = [&]() {
+    for (const SurfaceRegion& region : regions)
+      result.regions.push_back(EvaluateRegion(region, measured, options));
+    if (distances != nullptr) *distances = std::move(measured);
+    return result;
+  };
+  if (sample.points.empty() || truth_points.empty()) return finish();
 
   const NearestPoint truth_tree(truth_points);
   result.truth_spacing =
       options.truth_spacing > 0 ? options.truth_spacing : EstimateSpacing(truth_points, truth_tree);
-  const std::vector<double> to_truth =
-      SurfaceDistances(sample.points, truth_points, truth_normals, truth_tree, result.truth_spacing,
-                       options.neighbours);
+  measured.sample_to_truth = SurfaceDistances(sample.points, truth_points, truth_normals,
+                                              truth_tree, result.truth_spacing, options.neighbours);
+  const std::vector<double>& to_truth = measured.sample_to_truth;
   result.accuracy_m = Quantile(to_truth, options.accuracy_fraction);
   result.accuracy_footprints = result.accuracy_m / options.footprint;
   double sum = 0;
@@ -261,23 +254,15 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
   result.mean_distance_m = sum / static_cast<double>(to_truth.size());
 
   const NearestPoint model_tree(sample.points);
-  const std::vector<double> to_model =
-      SurfaceDistances(truth_points, sample.points, sample.normals, model_tree,
-                       result.sample_spacing, options.neighbours);
+  measured.truth_to_model = SurfaceDistances(truth_points, sample.points, sample.normals,
+                                             model_tree, result.sample_spacing, options.neighbours);
   for (Completeness& c : result.completeness)
-    c.fraction = FractionWithin(to_model, c.distance_m);
-  if (!regions.empty()) {
-    std::vector<int> nearest_truth;
+    c.fraction = FractionWithin(measured.truth_to_model, c.distance_m);
+  if (!regions.empty() || distances != nullptr) {
     std::vector<double> unused;
-    truth_tree.KNearest(sample.points, 1, &nearest_truth, &unused);
-    for (size_t r = 0; r < regions.size(); ++r) {
-      result.regions[r] = EvaluateRegion(regions[r].truth, nearest_truth, to_truth, to_model,
-                                         options, result.completeness);
-      result.regions[r].name = regions[r].name;
-    }
+    truth_tree.KNearest(sample.points, 1, &measured.nearest_truth, &unused);
   }
-  if (truth_distances != nullptr) *truth_distances = to_model;
-  return result;
+  return finish();
 }
 
 cv::Mat InnerSilhouettePixels(const cv::Mat& mask, double margin_px) {

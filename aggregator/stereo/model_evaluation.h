@@ -106,17 +106,30 @@ struct SurfaceSample {
 };
 SurfaceSample SampleSurfaceBySpacing(const TriangleMesh& mesh, double spacing, uint64_t seed);
 
+// The distances an evaluation measured, kept to measure regions later (EvaluateRegion).
+struct ModelDistances {
+  std::vector<double> sample_to_truth;  // per model sample, metres
+  std::vector<int> nearest_truth;       // per model sample: its nearest true point
+  std::vector<double> truth_to_model;   // per true point, as completeness counts it (metres;
+                                        // infinite when the model is empty)
+};
+
 // Accuracy and completeness of `model` (world metres) against the true points and unit
 // normals (same length), and restricted to each of `regions` (flags as long as the truth);
-// with `truth_distances` each true point's distance
-// to the model (as completeness counts it, metres). Throws CheckError for invalid options or
+// with `distances` the distances behind them. Throws CheckError for invalid options or
 // mismatched lengths; an empty model or truth gives infinite accuracy and zero completeness.
 ModelEvaluation EvaluateModel(const TriangleMesh& model,
                               const std::vector<Eigen::Vector3d>& truth_points,
                               const std::vector<Eigen::Vector3d>& truth_normals,
                               const ModelEvaluationOptions& options,
                               const std::vector<SurfaceRegion>& regions = {},
-                              std::vector<double>* truth_distances = nullptr);
+                              ModelDistances* distances = nullptr);
+
+// The measures restricted to `region` from the `distances` of an evaluation made with the
+// same options (as EvaluateModel reports them for its regions). CheckError if the region's
+// length differs from the truth's.
+RegionEvaluation EvaluateRegion(const SurfaceRegion& region, const ModelDistances& distances,
+                                const ModelEvaluationOptions& options);
 
 // The silhouette consistency of a model in one view.
 struct SilhouetteConsistency {

@@ -37,17 +37,6 @@ StereoMeshSummary Summarise(const TriangleMesh& mesh) {
   return summary;
 }
 
-// Fills the silhouette figures and the measures against the truth, over all of it and over
-// each of `regions`.
-void Evaluate(const TriangleMesh& mesh, const std::vector<StereoView>& views,
-              const std::optional<StereoTruth>& truth, double footprint,
-              const std::vector<SurfaceRegion>& regions, StereoMeshSummary* summary) {
-  summary->views = MeasureSilhouetteConsistency(mesh, views);
-  if (!truth || !(footprint > 0)) return;
-  summary->evaluation = EvaluateModel(mesh, truth->points, truth->normals,
-                                      StereoEvaluationOptions(*truth, footprint), regions);
-}
-
 bool Cancelled(const Progress* progress, StereoJobResult* result) {
   if (!progress || !progress->cancelled()) return false;
   result->success = false;
@@ -90,6 +79,20 @@ StereoViews LoadViews(const StereoJobConfig& config) {
 }
 
 }  // namespace
+
+size_t StereoMeshSummary::MissedInner() const {
+  size_t missed = 0;
+  for (const SilhouetteConsistency& v : views)
+    missed += v.missed_inner;
+  return missed;
+}
+
+size_t StereoMeshSummary::CoveredOuter() const {
+  size_t covered = 0;
+  for (const SilhouetteConsistency& v : views)
+    covered += v.covered_outer;
+  return covered;
+}
 
 VolumetricGraphCutOptions StereoGraphCutDefaults() {
   VolumetricGraphCutOptions options;
@@ -232,13 +235,15 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   // Evaluation.
   stage = Clock::now();
   if (progress) progress->Restart("evaluation", 2);
-  const std::vector<SurfaceRegion> regions =
-      truth && result.footprint > 0
-          ? StereoTruthRegions(hull.mesh, *truth, result.footprint, views.views)
-          : std::vector<SurfaceRegion>();
-  Evaluate(hull.mesh, views.views, truth, result.footprint, regions, &result.hull);
+  result.hull.views = MeasureSilhouetteConsistency(hull.mesh, views.views);
+  result.model.views = MeasureSilhouetteConsistency(cut.surface, views.views);
   if (progress) progress->Advance();
-  Evaluate(cut.surface, views.views, truth, result.footprint, regions, &result.model);
+  if (truth && result.footprint > 0) {
+    StereoTruthEvaluation measured =
+        EvaluateAgainstTruth(hull.mesh, cut.surface, *truth, result.footprint, views.views);
+    result.hull.evaluation = std::move(measured.hull);
+    result.model.evaluation = std::move(measured.model);
+  }
   if (progress) progress->Advance();
   result.seconds.evaluation = SecondsSince(stage);
   if (Cancelled(progress, &result)) return finish();

@@ -78,6 +78,10 @@ struct StereoMeshSummary {
   double volume_m3 = 0;
   std::vector<SilhouetteConsistency> views;   // against each view's mask
   std::optional<ModelEvaluation> evaluation;  // against gt_surface.ply, when present
+
+  // Over all views: inner silhouette pixels the mesh misses, outer pixels it covers.
+  size_t MissedInner() const;
+  size_t CoveredOuter() const;
 };
 
 // What the job did.

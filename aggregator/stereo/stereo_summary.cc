@@ -53,13 +53,9 @@ void WriteMesh(cv::FileStorage& fs, const std::string& name, const StereoMeshSum
   fs << name << "{"
      << "file" << m.file << "vertices" << AsInt(m.vertices) << "faces" << AsInt(m.triangles)
      << "closed_manifold" << static_cast<int>(m.closed_manifold) << "volume_m3" << m.volume_m3;
-  size_t missed = 0, covered = 0;
-  for (const SilhouetteConsistency& v : m.views) {
-    missed += v.missed_inner;
-    covered += v.covered_outer;
-  }
   if (!m.views.empty()) {
-    fs << "missed_inner_pixels" << AsInt(missed) << "covered_outer_pixels" << AsInt(covered);
+    fs << "missed_inner_pixels" << AsInt(m.MissedInner()) << "covered_outer_pixels"
+       << AsInt(m.CoveredOuter());
   }
   if (m.evaluation) {
     fs << "evaluation";

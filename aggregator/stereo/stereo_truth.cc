@@ -20,15 +20,24 @@ double CommentValue(const OrientedPointCloud& cloud, const std::string& key) {
   return 0;
 }
 
-// The true points farther than kConcaveRegionFootprints from the hull: where it cannot reach.
-SurfaceRegion ConcaveRegion(const TriangleMesh& hull, const StereoTruth& truth, double footprint) {
-  std::vector<double> to_hull;
-  EvaluateModel(hull, truth.points, truth.normals, StereoEvaluationOptions(truth, footprint), {},
-                &to_hull);
-  SurfaceRegion region{kConcaveRegion, std::vector<uint8_t>(to_hull.size())};
-  for (size_t i = 0; i < to_hull.size(); ++i)
-    region.truth[i] = to_hull[i] > kConcaveRegionFootprints * footprint ? 1 : 0;
+// The true points farther than kConcaveRegionFootprints from the hull (`truth_to_hull`, as
+// ModelDistances gives it): where it cannot reach.
+SurfaceRegion ConcaveRegion(const std::vector<double>& truth_to_hull, double footprint) {
+  SurfaceRegion region{kConcaveRegion, std::vector<uint8_t>(truth_to_hull.size())};
+  for (size_t i = 0; i < truth_to_hull.size(); ++i)
+    region.truth[i] = truth_to_hull[i] > kConcaveRegionFootprints * footprint ? 1 : 0;
   return region;
+}
+
+// The surface forming the silhouettes' T-junctions in `views` (t_junction_region.h).
+SurfaceRegion TJunctions(const StereoTruth& truth, const std::vector<StereoView>& views) {
+  std::vector<CameraModel> cameras;
+  std::vector<cv::Mat> masks;
+  for (const StereoView& view : views) {
+    cameras.push_back(view.camera);
+    masks.push_back(view.mask);
+  }
+  return {kTJunctionRegion, TJunctionRegion(truth.points, truth.normals, cameras, masks)};
 }
 
 }  // namespace
@@ -54,19 +63,19 @@ ModelEvaluationOptions StereoEvaluationOptions(const StereoTruth& truth, double 
   return options;
 }
 
-// The regions of the truth measured separately: concave (ConcaveRegion) and the surface
-// forming the silhouettes' T-junctions (t_junction_region.h) in the views.
-std::vector<SurfaceRegion> StereoTruthRegions(const TriangleMesh& hull, const StereoTruth& truth,
-                                              double footprint,
-                                              const std::vector<StereoView>& views) {
-  std::vector<CameraModel> cameras;
-  std::vector<cv::Mat> masks;
-  for (const StereoView& view : views) {
-    cameras.push_back(view.camera);
-    masks.push_back(view.mask);
-  }
-  return {ConcaveRegion(hull, truth, footprint),
-          {kTJunctionRegion, TJunctionRegion(truth.points, truth.normals, cameras, masks)}};
+StereoTruthEvaluation EvaluateAgainstTruth(const TriangleMesh& hull, const TriangleMesh& model,
+                                           const StereoTruth& truth, double footprint,
+                                           const std::vector<StereoView>& views) {
+  const ModelEvaluationOptions options = StereoEvaluationOptions(truth, footprint);
+  StereoTruthEvaluation result;
+  ModelDistances to_hull;
+  result.hull = EvaluateModel(hull, truth.points, truth.normals, options, {}, &to_hull);
+  const std::vector<SurfaceRegion> regions = {ConcaveRegion(to_hull.truth_to_model, footprint),
+                                              TJunctions(truth, views)};
+  for (const SurfaceRegion& region : regions)
+    result.hull.regions.push_back(EvaluateRegion(region, to_hull, options));
+  result.model = EvaluateModel(model, truth.points, truth.normals, options, regions);
+  return result;
 }
 
 }  // namespace silnet::aggregator

@@ -36,9 +36,14 @@ std::optional<StereoTruth> LoadStereoTruth(const std::filesystem::path& dir);
 // The evaluation settings for `truth` at `footprint` metres.
 ModelEvaluationOptions StereoEvaluationOptions(const StereoTruth& truth, double footprint);
 
-// The concave and T-junction regions of `truth` for `hull` seen by `views`.
-std::vector<SurfaceRegion> StereoTruthRegions(const TriangleMesh& hull, const StereoTruth& truth,
-                                              double footprint,
-                                              const std::vector<StereoView>& views);
+// Accuracy and completeness against the truth of the visual hull and of the model cut from
+// it, each over the whole true surface and over its concave and T-junction regions. The
+// concave region comes from the hull's own distances, so the hull is measured once.
+struct StereoTruthEvaluation {
+  ModelEvaluation hull, model;
+};
+StereoTruthEvaluation EvaluateAgainstTruth(const TriangleMesh& hull, const TriangleMesh& model,
+                                           const StereoTruth& truth, double footprint,
+                                           const std::vector<StereoView>& views);
 
 }  // namespace silnet::aggregator

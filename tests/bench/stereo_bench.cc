@@ -190,16 +190,13 @@ struct Evaluation {
 // Evaluates the hull and the model as RunStereoJob does.
 Evaluation EvaluationStage(const TriangleMesh& hull, const TriangleMesh& model) {
   const Loaded& loaded = TheLoaded();
-  const StereoTruth& truth = loaded.truth;
-  const double footprint = Footprint();
-  const std::vector<SurfaceRegion> regions =
-      StereoTruthRegions(hull, truth, footprint, loaded.views.views);
-  const ModelEvaluationOptions options = StereoEvaluationOptions(truth, footprint);
   Evaluation evaluation;
   evaluation.hull_views = MeasureSilhouetteConsistency(hull, loaded.views.views);
-  evaluation.hull = EvaluateModel(hull, truth.points, truth.normals, options, regions);
   evaluation.model_views = MeasureSilhouetteConsistency(model, loaded.views.views);
-  evaluation.model = EvaluateModel(model, truth.points, truth.normals, options, regions);
+  StereoTruthEvaluation measured =
+      EvaluateAgainstTruth(hull, model, loaded.truth, Footprint(), loaded.views.views);
+  evaluation.hull = std::move(measured.hull);
+  evaluation.model = std::move(measured.model);
   return evaluation;
 }
 
