@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
+#include <array>
 #include <fstream>
+#include <numeric>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
@@ -56,6 +58,59 @@ cv::Mat KeepLargeComponents(const cv::Mat& mask, double fraction) {
   return out;
 }
 
+// Fills the holes of `mask` (background components not touching the image border) whose
+// median `brightest` exceeds the `percentile` of the outer background's: a shadow pocket on
+// the subject is brighter than the backdrop seen through a real gap. Returns the holes filled.
+int FillShadowPockets(const cv::Mat& brightest, double percentile, cv::Mat* mask) {
+  cv::Mat labels;
+  const int count = cv::connectedComponents(*mask == 0, labels, 4, CV_32S);
+  if (count <= 1) return 0;
+  std::vector<bool> outer(static_cast<size_t>(count), false);
+  const auto mark_outer = [&](int row, int col) {
+    outer[static_cast<size_t>(labels.at<int>(row, col))] = true;
+  };
+  for (int col = 0; col < labels.cols; ++col) {
+    mark_outer(0, col);
+    mark_outer(labels.rows - 1, col);
+  }
+  for (int row = 0; row < labels.rows; ++row) {
+    mark_outer(row, 0);
+    mark_outer(row, labels.cols - 1);
+  }
+  // Brightness histograms: one per hole, one of the whole outer background.
+  std::vector<std::array<int, 256>> histograms(static_cast<size_t>(count) + 1,
+                                               std::array<int, 256>{});
+  const size_t outer_histogram = static_cast<size_t>(count);
+  for (int row = 0; row < labels.rows; ++row) {
+    for (int col = 0; col < labels.cols; ++col) {
+      const int label = labels.at<int>(row, col);
+      if (label == 0) continue;
+      const size_t h =
+          outer[static_cast<size_t>(label)] ? outer_histogram : static_cast<size_t>(label);
+      ++histograms[h][brightest.at<uint8_t>(row, col)];
+    }
+  }
+  const auto quantile = [](const std::array<int, 256>& histogram, double q) {
+    const double total = std::accumulate(histogram.begin(), histogram.end(), 0.0);
+    double below = 0;
+    for (int value = 0; value < 256; ++value) {
+      below += histogram[static_cast<size_t>(value)];
+      if (below >= q * total) return value;
+    }
+    return 255;
+  };
+  const int backdrop = quantile(histograms[outer_histogram], percentile);
+  int filled = 0;
+  for (int label = 1; label < count; ++label) {
+    if (outer[static_cast<size_t>(label)] ||
+        quantile(histograms[static_cast<size_t>(label)], 0.5) <= backdrop)
+      continue;
+    mask->setTo(255, labels == label);
+    ++filled;
+  }
+  return filled;
+}
+
 }  // namespace
 
 bool DarkBackgroundOptions::IsValid(std::string* reason) const {
@@ -65,6 +120,10 @@ bool DarkBackgroundOptions::IsValid(std::string* reason) const {
   }
   if (coloured_threshold < 0 || coloured_threshold > 254 || !(min_saturation >= 0)) {
     *reason = "coloured_threshold must lie in [0, 254] and min_saturation be >= 0";
+    return false;
+  }
+  if (!(shadow_pocket_percentile >= 0)) {
+    *reason = "shadow_pocket_percentile must be >= 0";
     return false;
   }
   if (open_radius < 0 || close_radius < 0 || max_hole_area < 0) {
@@ -102,6 +161,8 @@ cv::Mat ThresholdDarkBackground(const cv::Mat& image, const DarkBackgroundOption
   cleanup.close_radius = 0;
   cleanup.max_hole_area = options.max_hole_area;
   node::CleanMask(&mask, cleanup);
+  if (options.shadow_pocket_percentile <= 1)
+    FillShadowPockets(brightest, options.shadow_pocket_percentile, &mask);
   return mask;
 }
 
@@ -169,7 +230,7 @@ StereoViews LoadMiddlebury(const fs::path& folder,
     view.silhouette_source = SilhouetteSource::kThreshold;
     if (!good.empty() && !good.contains(name)) {
       result.warnings.push_back(
-          fmt::format("{}: not in the authors' list of good silhouette images", view.camera.id));
+          fmt::format("{}: not listed in {}", view.camera.id, good_list.filename().string()));
     }
     result.views.push_back(std::move(view));
   }

@@ -1,70 +1,41 @@
 #include "aggregator/stereo/silhouette_repair.h"
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
 #include <optional>
-#include <utility>
 
 #include "aggregator/hulls/hull_reprojection.h"
+#include "aggregator/stereo/lattice_ray.h"
 #include "aggregator/stereo/model_evaluation.h"
 #include "shared/util/check.h"
 
 namespace silnet::aggregator {
 namespace {
 
-// Where the ray centre + t * direction (t >= 0) is inside `box`: [t_in, t_out], if anywhere.
-std::optional<std::pair<double, double>> ClipRay(const WorldBox& box, const Eigen::Vector3d& centre,
-                                                 const Eigen::Vector3d& direction) {
-  double t_in = 0, t_out = std::numeric_limits<double>::infinity();
-  for (int a = 0; a < 3; ++a) {
-    if (std::abs(direction[a]) < 1e-15) {
-      if (centre[a] < box.min()[a] || centre[a] > box.max()[a]) return std::nullopt;
-      continue;
-    }
-    double t0 = (box.min()[a] - centre[a]) / direction[a];
-    double t1 = (box.max()[a] - centre[a]) / direction[a];
-    if (t0 > t1) std::swap(t0, t1);
-    t_in = std::max(t_in, t0);
-    t_out = std::min(t_out, t1);
-  }
-  if (t_in >= t_out) return std::nullopt;
-  return std::make_pair(t_in, t_out);
-}
-
 // The hull cell a missed pixel's ray should make interior, if its ray meets the hull.
 std::optional<size_t> CellForRay(const VoxelGrid& hull, const VoteVolume& votes,
                                  const Eigen::Vector3d& centre, const Eigen::Vector3d& direction) {
-  const auto range = ClipRay(hull.Bounds(), centre, direction);
-  if (!range) return std::nullopt;
-  const double step = 0.5 * hull.voxel_size;
   std::optional<size_t> best;
   float best_votes = 0;
   // The first run through the hull: its first and last sample.
   double run_start = -1, run_end = -1;
   bool run_closed = false;
-  // The lattice cell at ray depth t (the hull shares the votes' lattice).
-  const auto cell_at = [&](double t) -> std::optional<size_t> {
-    const auto ijk = votes.CellOf(centre + t * direction);
-    if (!ijk) return std::nullopt;
-    return votes.Index((*ijk)[0], (*ijk)[1], (*ijk)[2]);
-  };
-  for (double t = range->first + 0.5 * step; t < range->second; t += step) {
-    const std::optional<size_t> c = cell_at(t);
-    if (!c || hull.occupied[*c] == 0) {
+  WalkRay(hull, centre, direction, [&](double t, size_t c) {
+    if (hull.occupied[c] == 0) {
       run_closed = run_closed || run_start >= 0;
-      continue;
+      return;
     }
     if (run_start < 0) run_start = t;
     if (!run_closed) run_end = t;
-    if (votes.votes[*c] > best_votes) {
-      best_votes = votes.votes[*c];
-      best = *c;
+    if (votes.votes[c] > best_votes) {
+      best_votes = votes.votes[c];
+      best = c;
     }
-  }
+  });
   if (best) return best;
   if (run_start < 0) return std::nullopt;
-  return cell_at(0.5 * (run_start + run_end));
+  const auto middle = votes.CellOf(centre + 0.5 * (run_start + run_end) * direction);
+  if (!middle) return std::nullopt;
+  return votes.Index((*middle)[0], (*middle)[1], (*middle)[2]);
 }
 
 }  // namespace

@@ -5,10 +5,14 @@
 
 #include <cmath>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <utility>
 
 #include "aggregator/hulls/boundary_mesh.h"
 #include "aggregator/hulls/viewing_cone_bounds.h"
 #include "aggregator/hulls/voxel_hull.h"
+#include "aggregator/stereo/lattice_ray.h"
+#include "aggregator/stereo/model_evaluation.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -30,6 +34,72 @@ double FootprintAtConesCentre(const CutSilhouettes& views) {
 bool TouchesBorder(const cv::Mat& mask) {
   return cv::countNonZero(mask.row(0)) > 0 || cv::countNonZero(mask.row(mask.rows - 1)) > 0 ||
          cv::countNonZero(mask.col(0)) > 0 || cv::countNonZero(mask.col(mask.cols - 1)) > 0;
+}
+
+BorderCarving CarveByBorderViews(const CutSilhouettes& border, const CutSilhouettes& bounded,
+                                 double margin_px, VoxelGrid* grid) {
+  BorderCarving carving;
+  std::vector<size_t> carved;
+  for (int k = 0; k < grid->dims[2]; ++k) {
+    for (int j = 0; j < grid->dims[1]; ++j) {
+      for (int i = 0; i < grid->dims[0]; ++i) {
+        const size_t cell = grid->Index(i, j, k);
+        if (grid->occupied[cell] == 0 ||
+            VoxelCentreInHull(border.cameras, border.masks, grid->Center(i, j, k)))
+          continue;
+        grid->occupied[cell] = 0;
+        carved.push_back(cell);
+      }
+    }
+  }
+  carving.carved = carved.size();
+  if (carved.empty()) return carving;
+  std::vector<uint8_t> was_carved(grid->size(), 0);
+  for (size_t cell : carved)
+    was_carved[cell] = 1;
+  // Rays to give cells back on, found before any is given back.
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> rays;
+  for (size_t v = 0; v < bounded.cameras.size(); ++v) {
+    const CameraModel& camera = bounded.cameras[v];
+    // Only pixels a carved cell projects near can have lost their cover.
+    cv::Mat near_carved = cv::Mat::zeros(camera.height, camera.width, CV_8UC1);
+    for (size_t cell : carved) {
+      const int i = static_cast<int>(cell % static_cast<size_t>(grid->dims[0]));
+      const size_t rest = cell / static_cast<size_t>(grid->dims[0]);
+      const int j = static_cast<int>(rest % static_cast<size_t>(grid->dims[1]));
+      const int k = static_cast<int>(rest / static_cast<size_t>(grid->dims[1]));
+      const auto uv = camera.Project(grid->Center(i, j, k));
+      if (!uv) continue;
+      const int x = static_cast<int>(std::floor(uv->x() + 0.5));
+      const int y = static_cast<int>(std::floor(uv->y() + 0.5));
+      if (x >= 0 && y >= 0 && x < camera.width && y < camera.height)
+        near_carved.at<uint8_t>(y, x) = 255;
+    }
+    cv::dilate(near_carved, near_carved, cv::Mat::ones(5, 5, CV_8UC1));
+    const cv::Mat inner = InnerSilhouettePixels(bounded.masks[v], margin_px);
+    const Eigen::Matrix3d back = camera.R.transpose() * camera.K.inverse();
+    const Eigen::Vector3d centre = camera.Center();
+    for (int y = 0; y < inner.rows; ++y) {
+      for (int x = 0; x < inner.cols; ++x) {
+        if (inner.at<uint8_t>(y, x) == 0 || near_carved.at<uint8_t>(y, x) == 0) continue;
+        const Eigen::Vector3d direction = (back * Eigen::Vector3d(x, y, 1)).normalized();
+        bool covered = false, lost = false;
+        WalkRay(*grid, centre, direction, [&](double, size_t cell) {
+          covered = covered || grid->occupied[cell] != 0;
+          lost = lost || was_carved[cell] != 0;
+        });
+        if (lost && !covered) rays.emplace_back(centre, direction);
+      }
+    }
+  }
+  for (const auto& [centre, direction] : rays) {
+    WalkRay(*grid, centre, direction, [&](double, size_t cell) {
+      if (was_carved[cell] == 0 || grid->occupied[cell] != 0) return;
+      grid->occupied[cell] = 1;
+      ++carving.restored;
+    });
+  }
+  return carving;
 }
 
 PolyhedralHullResult ComputeStereoHull(const CutSilhouettes& views, int threads,

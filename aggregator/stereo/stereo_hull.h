@@ -1,13 +1,15 @@
 #pragma once
 // The visual hull the stereo job cuts its model from: the exact polyhedral hull of the
 // silhouettes that lie inside their images, or a voxel hull where the exact one cannot be
-// closed.
+// closed, carved on the lattice by the silhouettes the image border cuts.
 
+#include <cstddef>
 #include <opencv2/core/mat.hpp>
 #include <string>
 #include <vector>
 
 #include "aggregator/hulls/polyhedral_hull.h"
+#include "aggregator/hulls/voxel_grid.h"
 #include "aggregator/stereo/volumetric_graph_cut.h"
 
 namespace silnet::aggregator {
@@ -15,6 +17,22 @@ namespace silnet::aggregator {
 // True if any pixel of the outermost rows or columns of `mask` is silhouette: the subject
 // may continue outside the image, so the silhouette does not bound it.
 bool TouchesBorder(const cv::Mat& mask);
+
+// What carving by the silhouettes the image border cuts did to a hull on the lattice.
+struct BorderCarving {
+  size_t carved = 0;    // cells cleared by a border view's background
+  size_t restored = 0;  // of which given back to cover another view's silhouette
+};
+
+// Clears the occupied cells of `grid` whose centres a view of `border` sees at a background
+// pixel (VoxelCentreInHull's rule: a centre projecting outside a view's image is not carved by
+// it), so views whose silhouettes the image border cuts still bound the subject inside their
+// images. Then gives back the cleared cells on the ray of every pixel at least `margin_px`
+// inside a silhouette of `bounded` (InnerSilhouettePixels) that would otherwise meet no
+// occupied cell: where the views disagree, a silhouette pixel wins over a border view's
+// background (a shadow on the subject read as backdrop). Cameras are undistorted.
+BorderCarving CarveByBorderViews(const CutSilhouettes& border, const CutSilhouettes& bounded,
+                                 double margin_px, VoxelGrid* grid);
 
 // The exact polyhedral hull of `views`, or, when it cannot be closed (symmetric rings such
 // as the Middlebury temple's; issue 20), the voxel hull carved at one pixel footprint (the

@@ -13,6 +13,7 @@
 #include "aggregator/report/stereo_report.h"
 #include "aggregator/stereo/middlebury_dataset.h"
 #include "aggregator/stereo/model_render.h"
+#include "aggregator/stereo/stereo_graph.h"
 #include "aggregator/stereo/stereo_hull.h"
 #include "aggregator/stereo/stereo_truth.h"
 #include "aggregator/stereo/stills_folder.h"
@@ -157,19 +158,21 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   // Visual hull.
   stage = Clock::now();
   if (progress) progress->Restart("visual hull", 1);
-  // A silhouette cut by the image border does not bound the subject: such views are left out
-  // of the hull (their photographs still vote).
-  CutSilhouettes hull_views;  // the views the hull, and so the constraints, come from
+  // A silhouette cut by the image border does not bound the subject outside the image: such
+  // views are left out of the exact hull and carve it on the lattice inside their images.
+  CutSilhouettes hull_views;    // the views the exact hull comes from
+  CutSilhouettes border_views;  // the others
   std::vector<CameraModel>& hull_cameras = hull_views.cameras;
   for (const StereoView& view : views.views) {
-    if (TouchesBorder(view.mask)) {
-      result.warnings.push_back(view.camera.id +
-                                ": the silhouette touches the image border; left out of the hull");
-      spdlog::warn("{}", result.warnings.back());
-      continue;
-    }
-    hull_cameras.push_back(view.camera);
-    hull_views.masks.push_back(view.mask);
+    CutSilhouettes& into = TouchesBorder(view.mask) ? border_views : hull_views;
+    into.cameras.push_back(view.camera);
+    into.masks.push_back(view.mask);
+  }
+  for (const CameraModel& camera : border_views.cameras) {
+    result.warnings.push_back(camera.id +
+                              ": the silhouette touches the image border; left out of the exact "
+                              "hull, it carves the hull inside its image");
+    spdlog::warn("{}", result.warnings.back());
   }
   PolyhedralHullResult hull;
   if (hull_cameras.size() < 2) {
@@ -210,8 +213,22 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   // Graph cut.
   stage = Clock::now();
   if (progress) progress->Restart("graph cut", 1);
+  VoxelGrid hull_cells = HullOnLattice(hull.mesh, votes.volume);
+  if (!border_views.cameras.empty()) {
+    const BorderCarving carving = CarveByBorderViews(
+        border_views, hull_views, config.graph_cut.silhouette_margin_px, &hull_cells);
+    spdlog::info(
+        "the {} silhouettes the image border cuts carved {} hull cells; {} given back to cover "
+        "the other views' silhouettes",
+        border_views.cameras.size(), carving.carved, carving.restored);
+  }
+  CutSilhouettes constraints = hull_views;  // every view's silhouette must be covered
+  constraints.cameras.insert(constraints.cameras.end(), border_views.cameras.begin(),
+                             border_views.cameras.end());
+  constraints.masks.insert(constraints.masks.end(), border_views.masks.begin(),
+                           border_views.masks.end());
   const VolumetricGraphCutResult cut =
-      VolumetricGraphCut(votes.volume, hull.mesh, config.graph_cut, &hull_views);
+      VolumetricGraphCut(votes.volume, hull_cells, config.graph_cut, &constraints);
   spdlog::info("{}", cut.stats.Brief());
   result.seconds.graph_cut = SecondsSince(stage);
   result.graph_cut = cut.stats;

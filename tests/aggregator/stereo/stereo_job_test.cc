@@ -449,7 +449,7 @@ TEST(StereoJobTest, SixteenViewDomeMeetsTheAccuracyTargetsAndBeatsTheHullInConca
 
 // A silhouette cut by the image border (as in three Middlebury dino views) does not bound the
 // subject: that view is left out of the hull with a warning and the model is still built.
-TEST(StereoJobTest, ViewWhoseSilhouetteTouchesTheBorderIsLeftOutOfTheHull) {
+TEST(StereoJobTest, ViewWhoseSilhouetteTouchesTheBorderCarvesTheHullInsideItsImage) {
   silnet::testing::TempDir input;
   std::filesystem::copy(SmallStills(), input.path(), std::filesystem::copy_options::recursive);
   const std::filesystem::path mask_path = input / "cam00" / "masks" / "000000.png";
@@ -469,10 +469,19 @@ TEST(StereoJobTest, ViewWhoseSilhouetteTouchesTheBorderIsLeftOutOfTheHull) {
   const StereoJobResult result = RunStereoJob(config, nullptr);
   ASSERT_TRUE(result.success) << result.reason;
   const std::string expected =
-      "cam00: the silhouette touches the image border; left out of the hull";
+      "cam00: the silhouette touches the image border; left out of the exact hull, it carves "
+      "the hull inside its image";
   EXPECT_NE(std::find(result.warnings.begin(), result.warnings.end(), expected),
             result.warnings.end());
   EXPECT_TRUE(std::filesystem::exists(out / "model.ply"));
+  // The model still keeps inside cam00's silhouette, off the added row, which the hull of the
+  // other views does not.
+  ASSERT_EQ(result.model.views.size(), result.hull.views.size());
+  ASSERT_EQ(result.model.views[0].camera_id, "cam00");
+  EXPECT_GT(result.hull.views[0].covered_outer, 0u);
+  EXPECT_EQ(result.model.views[0].covered_outer, 0u);
+  for (const SilhouetteConsistency& view : result.model.views)
+    EXPECT_EQ(view.missed_inner, 0u) << view.camera_id;
 }
 
 TEST(StereoJobTest, FailureIsDataAndLeavesNoModel) {

@@ -1,0 +1,102 @@
+// Carving the hull on the lattice by views whose silhouettes the image border cuts: cells a
+// border view sees as background are cleared, and given back where another view's silhouette
+// would otherwise see nothing.
+
+#include "aggregator/stereo/stereo_hull.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+
+namespace silnet::aggregator {
+namespace {
+
+// A camera 1 m above the origin looking down +z, 100x100 px, focal 400 px.
+CameraModel TopCamera(const std::string& id) {
+  CameraModel camera;
+  camera.id = id;
+  camera.width = 100;
+  camera.height = 100;
+  camera.K << 400, 0, 49.5, 0, 400, 49.5, 0, 0, 1;
+  camera.R.setIdentity();
+  camera.t = Eigen::Vector3d(0, 0, 1);
+  return camera;
+}
+
+TEST(BorderCarving, ClearsWhatABorderViewSeesAsBackgroundAndGivesBackWhatAnotherViewNeeds) {
+  // A full 20^3 cube of 1 cm cells around the origin.
+  VoxelGrid grid = VoxelGrid::Empty(Eigen::Vector3d::Constant(-0.1), 0.01, {20, 20, 20});
+  std::fill(grid.occupied.begin(), grid.occupied.end(), 1);
+
+  // The border view: silhouette = the image's left half (it touches the left border).
+  CutSilhouettes border;
+  border.cameras.push_back(TopCamera("border"));
+  border.masks.push_back(cv::Mat::zeros(100, 100, CV_8UC1));
+  border.masks[0].colRange(0, 50).setTo(255);
+  // The bounded view, from the same place: a silhouette well right of the middle, which the
+  // border view calls background (a shadow read as backdrop).
+  CutSilhouettes bounded;
+  bounded.cameras.push_back(TopCamera("bounded"));
+  bounded.masks.push_back(cv::Mat::zeros(100, 100, CV_8UC1));
+  bounded.masks[0](cv::Rect(70, 30, 20, 40)).setTo(255);
+
+  const BorderCarving carving = CarveByBorderViews(border, bounded, 1.0, &grid);
+  EXPECT_EQ(carving.carved, 20u * 20u * 10u);  // every cell right of x = 0
+  EXPECT_GT(carving.restored, 0u);
+  EXPECT_LT(carving.restored, carving.carved / 3);  // the columns under its silhouette
+  const CameraModel& camera = bounded.cameras[0];
+  for (int k = 0; k < 20; ++k) {
+    for (int j = 0; j < 20; ++j) {
+      for (int i = 0; i < 20; ++i) {
+        const Eigen::Vector3d centre = grid.Center(i, j, k);
+        const Eigen::Vector2d uv = *camera.Project(centre);
+        const bool occupied = grid.IsOccupied(i, j, k);
+        if (centre.x() < 0) {
+          EXPECT_TRUE(occupied) << "left half carved at " << centre.transpose();
+        } else if (uv.x() < 66 || uv.x() > 93 || uv.y() < 26 || uv.y() > 73) {
+          // Far from the bounded view's silhouette: carved and not given back.
+          EXPECT_FALSE(occupied) << "restored at " << uv.transpose();
+        }
+      }
+    }
+  }
+  // Every inner pixel of the bounded view sees an occupied cell again.
+  for (int y = 31; y < 69; ++y) {
+    for (int x = 71; x < 89; ++x) {
+      bool seen = false;
+      for (int k = 0; k < 20 && !seen; ++k) {
+        for (int j = 0; j < 20 && !seen; ++j) {
+          for (int i = 0; i < 20 && !seen; ++i) {
+            if (!grid.IsOccupied(i, j, k)) continue;
+            const Eigen::Vector2d uv = *camera.Project(grid.Center(i, j, k));
+            seen = std::abs(uv.x() - x) <= 1.5 && std::abs(uv.y() - y) <= 1.5;
+          }
+        }
+      }
+      EXPECT_TRUE(seen) << "pixel " << x << "," << y << " sees no cell";
+    }
+  }
+}
+
+TEST(BorderCarving, OutsideItsImageABorderViewCarvesNothing) {
+  VoxelGrid grid = VoxelGrid::Empty(Eigen::Vector3d::Constant(-0.1), 0.01, {20, 20, 20});
+  std::fill(grid.occupied.begin(), grid.occupied.end(), 1);
+  CutSilhouettes border;
+  border.cameras.push_back(TopCamera("border"));
+  border.cameras[0].K(0, 2) = -60;  // the cube now projects left of the image, mostly
+  border.masks.push_back(cv::Mat::zeros(100, 100, CV_8UC1));
+  border.masks[0].colRange(0, 1).setTo(255);
+  const BorderCarving carving = CarveByBorderViews(border, {}, 1.0, &grid);
+  for (int k = 0; k < 20; ++k) {
+    for (int j = 0; j < 20; ++j) {
+      for (int i = 0; i < 20; ++i) {
+        const Eigen::Vector2d uv = *border.cameras[0].Project(grid.Center(i, j, k));
+        EXPECT_EQ(grid.IsOccupied(i, j, k), uv.x() < 0.5) << uv.transpose();
+      }
+    }
+  }
+  EXPECT_EQ(carving.restored, 0u);
+}
+
+}  // namespace
+}  // namespace silnet::aggregator
