@@ -31,14 +31,15 @@ void PrintStatus(const std::vector<CameraIngestStatus>& cameras) {
         stderr,
         "  %-8s session %u: %llu frames held (%llu..%llu), %llu missing, %llu duplicates, "
         "%llu malformed, %llu re-send requests, %llu store failures; node %s %.1f fps, %llu "
-        "dropped%s%s\n",
+        "dropped, %llu flagged%s%s\n",
         c.camera_id.c_str(), c.session, static_cast<unsigned long long>(c.frames_held),
         static_cast<unsigned long long>(c.first_frame),
         static_cast<unsigned long long>(c.last_frame), static_cast<unsigned long long>(c.missing),
         static_cast<unsigned long long>(c.duplicates), static_cast<unsigned long long>(c.malformed),
         static_cast<unsigned long long>(c.resend_requests),
         static_cast<unsigned long long>(c.store_failures), c.node_state.c_str(), c.node_fps,
-        static_cast<unsigned long long>(c.node_dropped), c.node_alive ? "" : ", not heard from",
+        static_cast<unsigned long long>(c.node_dropped),
+        static_cast<unsigned long long>(c.node_flagged), c.node_alive ? "" : ", not heard from",
         c.stalled ? "  STALLED" : "");
   }
 }

@@ -403,6 +403,7 @@ size_t IngestService::Poll(std::chrono::milliseconds wait) {
         }
         t.status.node_published = sample.frames_published;
         t.status.node_dropped = sample.frames_dropped;
+        t.status.node_flagged = sample.frames_flagged;
         t.last_status = Clock::now();
       });
   s.DetectStalls();
@@ -440,6 +441,8 @@ IngestTotals IngestService::Totals() const {
     totals.store_failures += c.store_failures;
     totals.stalls += c.stalls;
     totals.cameras_stalled += c.stalled ? 1 : 0;
+    totals.node_dropped += c.node_dropped;
+    totals.node_flagged += c.node_flagged;
   }
   return totals;
 }
@@ -470,7 +473,8 @@ void IngestService::WriteSummary(const std::filesystem::path& path) const {
        << "latency_median_ms" << c.latency_median_ms << "latency_p99_ms" << c.latency_p99_ms
        << "node_cpu_percent" << c.node_cpu_percent << "node_state" << c.node_state << "node_alive"
        << static_cast<int>(c.node_alive) << "node_fps" << c.node_fps << "node_dropped"
-       << static_cast<double>(c.node_dropped) << "seconds_since_last_frame" << c.seconds_since_last
+       << static_cast<double>(c.node_dropped) << "node_flagged"
+       << static_cast<double>(c.node_flagged) << "seconds_since_last_frame" << c.seconds_since_last
        << "stalled" << static_cast<int>(c.stalled) << "}";
   }
   fs << "]";

@@ -60,6 +60,7 @@ struct CameraIngestStatus {
   double node_cpu_percent = 0.0;  // of one core, mean over the node's statuses while running
   uint64_t node_published = 0;
   uint64_t node_dropped = 0;         // frames the node reports lost before publishing
+  uint64_t node_flagged = 0;         // frames the node published flagged as a problem
   double seconds_since_status = -1;  // since the node's last NodeStatus (negative: none)
   bool node_alive = false;           // a NodeStatus arrived in the last 3 s
   // Capture to arrival of HullFrame samples first sent (not re-sent), milliseconds; on one
@@ -75,6 +76,7 @@ struct IngestTotals {
   uint64_t contours_overdue = 0;  // hull frames whose contour has not arrived (yet)
   uint64_t dds_samples_lost = 0;  // reported by DDS on the frame readers
   uint64_t dds_samples_rejected = 0;
+  uint64_t node_dropped = 0, node_flagged = 0;  // as the nodes' last statuses say
 };
 
 // Subscribes, validates, stores, tracks and requests re-sends. One thread calls Poll().

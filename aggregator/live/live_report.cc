@@ -18,20 +18,23 @@ std::string Percent(double fraction) {
 std::string IngestSection(const LiveJobResult& r) {
   HtmlTable table({"camera", "session", "frames held", "missing", "received", "contours",
                    "duplicates", "out of order", "malformed", "re-send requests", "stalls",
-                   "store failures", "node"});
+                   "store failures", "node dropped", "node flagged", "node"});
   for (const CameraIngestStatus& c : r.cameras) {
     table.AddRow({c.camera_id, std::to_string(c.session), std::to_string(c.frames_held),
                   std::to_string(c.missing), std::to_string(c.received), std::to_string(c.contours),
                   std::to_string(c.duplicates), std::to_string(c.out_of_order),
                   std::to_string(c.malformed), std::to_string(c.resend_requests),
-                  std::to_string(c.stalls), std::to_string(c.store_failures), c.node_state},
-                 c.missing > 0 || c.malformed > 0 ? "warn" : "");
+                  std::to_string(c.stalls), std::to_string(c.store_failures),
+                  std::to_string(c.node_dropped), std::to_string(c.node_flagged), c.node_state},
+                 c.missing > 0 || c.malformed > 0 || c.node_dropped > 0 ? "warn" : "");
   }
   return fmt::format(
              "<p>{} samples received, {} frames held, {} missing; DDS lost {} and "
-             "rejected {} samples.</p>\n",
+             "rejected {} samples; the nodes dropped {} frames (never captured or not "
+             "processed, e.g. while overloaded) and flagged {} (published as empty, saturated, "
+             "unusable, dropped or still warming up).</p>\n",
              r.ingest.received, r.ingest.stored, r.ingest.missing, r.ingest.dds_samples_lost,
-             r.ingest.dds_samples_rejected) +
+             r.ingest.dds_samples_rejected, r.ingest.node_dropped, r.ingest.node_flagged) +
          table.ToHtml();
 }
 
@@ -117,7 +120,9 @@ void WriteSummaryYaml(const std::filesystem::path& path, const LiveJobResult& r)
   fs << "failure" << r.failure << "seconds" << r.seconds;
   fs << "cameras" << static_cast<int>(r.cameras.size());
   fs << "frames_held" << static_cast<double>(r.ingest.stored) << "frames_missing"
-     << static_cast<double>(r.ingest.missing);
+     << static_cast<double>(r.ingest.missing) << "frames_dropped_by_nodes"
+     << static_cast<double>(r.ingest.node_dropped) << "frames_flagged_by_nodes"
+     << static_cast<double>(r.ingest.node_flagged);
   fs << "calibration_first_frame" << r.calibration_first_frame << "calibration_frames"
      << r.calibration_frames << "calibration_attempts" << r.calibration_attempts << "recalibrations"
      << r.recalibrations << "published" << static_cast<int>(r.published);
@@ -165,9 +170,9 @@ std::string LiveSummary(const std::filesystem::path& out, const LiveJobResult& r
   std::string text = fmt::format("silnet live run: {:.0f} s\n", r.seconds);
   text += fmt::format(
       "  streams      {} cameras, {} frames held, {} missing, {} malformed, {} "
-      "duplicates, {} stalls\n",
+      "duplicates, {} stalls; nodes dropped {}, flagged {}\n",
       r.cameras.size(), r.ingest.stored, r.ingest.missing, r.ingest.malformed, r.ingest.duplicates,
-      r.ingest.stalls);
+      r.ingest.stalls, r.ingest.node_dropped, r.ingest.node_flagged);
   if (r.calibration) {
     const NetworkCalibration& c = r.calibration->calibration;
     text += fmt::format(

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <opencv2/core/persistence.hpp>
+
 #include "shared/dds/sample_conversions.h"
 #include "shared/silhouette/hull_codec.h"
 #include "tests/support/temp_dir.h"
@@ -87,6 +89,58 @@ TEST(IngestService, CountsDuplicatesOutOfOrderAndMalformedSamplesAndAsksForGaps)
   EXPECT_EQ(resends[0].session, 3u);
   EXPECT_EQ(resends[0].from_frame, 3u);
   EXPECT_EQ(resends[0].to_frame, 3u);
+}
+
+// A node's own losses reach the camera's status, the totals and the summary file.
+TEST(IngestService, KeepsWhatTheNodesReportDroppedAndFlagged) {
+  testing::TempDir dir;
+  IngestOptions options;
+  options.store_dir = dir / "store";
+  options.domain = dds::DomainConfig::FromEnvironment();
+  IngestService ingest(options);
+  ingest.Open();
+
+  dds::Participant participant(options.domain);
+  dds::Topic<silnet_wire_HullFrame> topic(participant);
+  dds::Writer<silnet_wire_HullFrame> writer(topic);
+  dds::Topic<silnet_wire_NodeStatus> status_topic(participant);
+  dds::Writer<silnet_wire_NodeStatus> status_writer(status_topic);
+  ASSERT_TRUE(writer.WaitForReaders(1, std::chrono::seconds(10)));
+  ASSERT_TRUE(status_writer.WaitForReaders(1, std::chrono::seconds(10)));
+  const FrameRecord record = Good(0);  // the sample points into it
+  silnet_wire_HullFrame frame;
+  dds::ToWire(record, &frame);
+  ASSERT_TRUE(writer.Write(frame));
+  ASSERT_TRUE(writer.WaitForAcknowledgements(std::chrono::seconds(10)));
+  // The camera's session is known once its frame is in; statuses of other sessions are not
+  // counted.
+  for (auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+       ingest.Status().empty() && std::chrono::steady_clock::now() < until;)
+    ingest.Poll(milliseconds(50));
+  silnet_wire_NodeStatus status{};
+  dds::CopyBoundedString("cam05", status.camera_id, "camera id");
+  dds::CopyBoundedString("running", status.state, "state");
+  status.session = 3;
+  status.frames_published = 40;
+  status.frames_dropped = 7;
+  status.frames_flagged = 9;
+  ASSERT_TRUE(status_writer.Write(status));
+  ASSERT_TRUE(status_writer.WaitForAcknowledgements(std::chrono::seconds(10)));
+
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (std::chrono::steady_clock::now() < deadline &&
+         (ingest.Status().empty() || ingest.Status()[0].node_flagged == 0))
+    ingest.Poll(milliseconds(50));
+  const auto cameras = ingest.Status();
+  ASSERT_EQ(cameras.size(), 1u);
+  EXPECT_EQ(cameras[0].node_dropped, 7u);
+  EXPECT_EQ(cameras[0].node_flagged, 9u);
+  EXPECT_EQ(ingest.Totals().node_dropped, 7u);
+  EXPECT_EQ(ingest.Totals().node_flagged, 9u);
+  ingest.WriteSummary(dir / "ingest_summary.yaml");
+  cv::FileStorage summary((dir / "ingest_summary.yaml").string(), cv::FileStorage::READ);
+  ASSERT_TRUE(summary.isOpened());
+  EXPECT_EQ(static_cast<double>(summary["cameras"][0]["node_flagged"]), 9.0);
 }
 
 }  // namespace
