@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <fstream>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -179,6 +180,51 @@ RealCapture LoadInriaDancer(const std::filesystem::path& folder) {
     CameraModel camera = SingleInstantCamera(std::filesystem::path(name).stem().string(), mask);
     if (!DecomposeProjection(p, &camera.K, &camera.R, &camera.t))
       throw InputError(fmt::format("{}: the projection of {} is singular", par.string(), name));
+    capture.cameras.push_back(camera);
+    capture.masks.push_back(mask);
+  }
+  return capture;
+}
+
+RealCapture LoadEpvhAlien(const std::filesystem::path& folder, int views) {
+  constexpr int kViews = 24, kWidth = 1900, kHeight = 1600, kShift = 4;
+  if (views < 0 || views > kViews)
+    throw InputError(fmt::format("the alien set has {} views, not {}", kViews, views));
+  if (views == 0) views = kViews;
+  const std::filesystem::path camera_path = folder / "alien-camera.txt";
+  const std::filesystem::path contour_path = folder / "alien-contour.txt";
+  std::ifstream cameras = OpenOrThrow(camera_path, std::ios::in);
+  std::ifstream contours = OpenOrThrow(contour_path, std::ios::in);
+  RealCapture capture;
+  for (int v = 0; v < views; ++v) {
+    Matrix34d p;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 4; ++c)
+        cameras >> p(r, c);
+    }
+    if (!cameras)
+      throw InputError(fmt::format("{}: camera {} is malformed", camera_path.string(), v));
+    int index = -1, count = 0;
+    contours >> index >> count;
+    if (!contours || index != v || count < 3)
+      throw InputError(fmt::format("{}: contour {} is malformed", contour_path.string(), v));
+    std::vector<cv::Point> polygon(static_cast<size_t>(count));
+    for (cv::Point& point : polygon) {
+      double x = 0, y = 0;
+      contours >> x >> y;
+      // Fixed point with kShift fraction bits; pixel centres are integers in both conventions.
+      point = cv::Point(static_cast<int>(std::lround(x * (1 << kShift))),
+                        static_cast<int>(std::lround(y * (1 << kShift))));
+    }
+    if (!contours)
+      throw InputError(fmt::format("{}: contour {} is truncated", contour_path.string(), v));
+    cv::Mat mask = cv::Mat::zeros(kHeight, kWidth, CV_8UC1);
+    cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{polygon}, cv::Scalar(255), cv::LINE_8,
+                 kShift);
+    CameraModel camera = SingleInstantCamera(fmt::format("alien{:02d}", v), mask);
+    if (!DecomposeProjection(p, &camera.K, &camera.R, &camera.t))
+      throw InputError(
+          fmt::format("{}: the projection of camera {} is singular", camera_path.string(), v));
     capture.cameras.push_back(camera);
     capture.masks.push_back(mask);
   }

@@ -1,5 +1,5 @@
 #pragma once
-// Loaders for two public single-frame silhouette datasets (shared data folder, see its
+// Loaders for public single-frame silhouette datasets (shared data folder, see its
 // README.md), turning each into silnet cameras (shared/geometry/conventions.h) and masks, so
 // visual hulls can be checked on real captures.
 //
@@ -8,6 +8,8 @@
 //   whose foreground is the 0 bit.
 // * Tsinghua "WD2" 20-camera capture (calibParamsI.txt + silhouettes/*.png): K (with skew),
 //   two radial coefficients and [R | t] world -> camera; RGB masks thresholded at > 125.
+// * EPVH's "alien" (alien-camera.txt, alien-contour.txt): 24 projection matrices and
+//   sub-pixel contours, the data of the exact-hull peer.
 // Both files' pixel coordinates are taken as silnet's (integer = pixel centre); the
 // half-pixel ambiguity is far below a voxel.
 
@@ -36,6 +38,13 @@ RealCapture LoadInriaDancer(const std::filesystem::path& folder);
 // Loads the WD2 folder. The file's radial coefficients become k1, k2 iff `use_distortion`
 // (the dataset's own code ignores them). Throws InputError for missing or malformed input.
 RealCapture LoadTsinghuaWd2(const std::filesystem::path& folder, bool use_distortion);
+
+// Loads the first `views` cameras (all when 0) of EPVH's "alien" set (alien-camera.txt: 3x4
+// projection matrices, blank-line separated, decomposed into K [R | t] with K's small skew
+// kept; alien-contour.txt: one sub-pixel outer contour per camera, "index count" then the x y
+// list), images 1900x1600. Masks are the contours filled at 1/16 px (pixels whose centres lie
+// inside). Throws InputError naming the file for missing or malformed input, or `views` > 24.
+RealCapture LoadEpvhAlien(const std::filesystem::path& folder, int views = 0);
 
 // Reads the cameras of a Utrecht INFOMCV capture (cam1..camN/config.xml: OpenCV FileStorage
 // with K, five distortion coefficients, a Rodrigues rotation and a translation in mm,

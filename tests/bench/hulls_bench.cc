@@ -15,6 +15,7 @@
 #include "aggregator/hulls/real_datasets.h"
 #include "aggregator/hulls/silhouette_interpolation.h"
 #include "aggregator/hulls/voxel_hull.h"
+#include "shared/silhouette/silhouette_contour.h"
 #include "sim/camera_network.h"
 #include "sim/render/camera_renderer.h"
 
@@ -144,6 +145,63 @@ void BM_PolyhedralHullRealCapture(benchmark::State& state) {
   state.counters["gaps_filled"] = static_cast<double>(hull.stats.gaps_filled);
 }
 BENCHMARK(BM_PolyhedralHullRealCapture)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// EPVH's own "alien" set (24 views, 1900x1600; issue 20), cameras 0..k-1, loaded once.
+const RealCapture* Alien() {
+  static const std::unique_ptr<RealCapture> capture = [] {
+    const std::filesystem::path folder =
+        std::filesystem::path(SILNET_SHARED_DATA_DIR) / "epvh-alien-24cam";
+    return std::filesystem::exists(folder) ? std::make_unique<RealCapture>(LoadEpvhAlien(folder))
+                                           : nullptr;
+  }();
+  return capture.get();
+}
+
+// Arg: views (cameras 0..k-1). The exact hull from masks, everything included (contours, cone
+// bounds, faces, mesh), as EPVH's figures in docs/PERFORMANCE.md.
+void BM_PolyhedralHullAlien(benchmark::State& state) {
+  const RealCapture* alien = Alien();
+  if (!alien) {
+    state.SkipWithError("no real data beside the project");
+    return;
+  }
+  const auto views = static_cast<long>(state.range(0));
+  const std::vector<CameraModel> cameras(alien->cameras.begin(), alien->cameras.begin() + views);
+  const std::vector<cv::Mat> masks(alien->masks.begin(), alien->masks.begin() + views);
+  PolyhedralHullResult hull;
+  for (auto _ : state) {
+    hull = ComputePolyhedralHull(cameras, masks);
+    if (!hull.success) state.SkipWithError(hull.reason.c_str());
+    benchmark::DoNotOptimize(hull.mesh.triangles.size());
+  }
+  state.counters["triangles"] = static_cast<double>(hull.mesh.triangles.size());
+  state.counters["cone_faces"] = static_cast<double>(hull.stats.cone_faces);
+}
+BENCHMARK(BM_PolyhedralHullAlien)->Arg(4)->Arg(8)->Arg(12)->Arg(16)->Unit(benchmark::kMillisecond);
+
+// Arg: views. Only the contour extraction of the above (default options), to split its cost.
+void BM_AlienContours(benchmark::State& state) {
+  const RealCapture* alien = Alien();
+  if (!alien) {
+    state.SkipWithError("no real data beside the project");
+    return;
+  }
+  const PolyhedralHullOptions defaults;
+  ContourOptions options;
+  options.tolerance_px = defaults.contour_tolerance_px;
+  options.smoothing_passes = defaults.contour_smoothing_passes;
+  options.boundary_offset_px = defaults.contour_offset_px;
+  size_t points = 0;
+  for (auto _ : state) {
+    points = 0;
+    for (long v = 0; v < state.range(0); ++v)
+      points +=
+          ExtractContours(alien->masks[static_cast<size_t>(v)], options).polygons[0].outer.size();
+    benchmark::DoNotOptimize(points);
+  }
+  state.counters["contour_points"] = static_cast<double>(points);
+}
+BENCHMARK(BM_AlienContours)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 
 void BM_InterpolateSilhouette640x480(benchmark::State& state) {
   const Frame& frame = TheFrame();
