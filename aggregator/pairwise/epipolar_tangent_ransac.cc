@@ -267,8 +267,22 @@ const char* ToString(PairStatus status) {
   return "unknown";
 }
 
+PairwiseOptions ScaledToImages(const PairwiseOptions& options, int width_i, int height_i,
+                               int width_j, int height_j) {
+  const double scale = std::max(1.0, static_cast<double>(width_i + height_i + width_j + height_j) /
+                                         (2.0 * (kReferenceWidth + kReferenceHeight)));
+  PairwiseOptions scaled = options;
+  scaled.tau_start *= scale;
+  scaled.screen_min *= scale;
+  scaled.screen_max *= scale;
+  scaled.ambiguity_px *= scale;
+  scaled.min_motion_px *= scale;
+  return scaled;
+}
+
 PairwiseResult EstimatePair(const SilhouetteSequence& i, const SilhouetteSequence& j,
-                            const PairwiseOptions& options, Progress* progress) {
+                            const PairwiseOptions& given, Progress* progress) {
+  const PairwiseOptions options = ScaledToImages(given, i.width, i.height, j.width, j.height);
   const auto start = Clock::now();
   PairwiseResult result;
   result.camera_i = i.camera_id;

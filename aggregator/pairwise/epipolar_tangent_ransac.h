@@ -34,7 +34,11 @@
 
 namespace silnet::aggregator {
 
-// Settings of the pairwise estimator; defaults follow the thesis.
+// Settings of the pairwise estimator; defaults follow the thesis. The thresholds that measure
+// how rough a hypothesis may be (tau_start, screen_min, screen_max), when solutions are distinct
+// (ambiguity_px) and how far silhouettes must move (min_motion_px) are pixels of a 640x480
+// image; EstimatePair scales them up with larger images (ScaledToImages). The inlier
+// thresholds (final_threshold, consensus_px) are segmentation noise and stay in pixels.
 struct PairwiseOptions {
   double quantile = 0.75;            // K of the K-quantile test
   double tau_start = 50.0;           // initial outlier threshold tau0, pixels
@@ -74,6 +78,15 @@ struct PairwiseOptions {
   // A readable reason if the options are unusable, empty if they are fine.
   std::string Validate() const;
 };
+
+// The image size the pixel thresholds of PairwiseOptions are set for.
+inline constexpr int kReferenceWidth = 640, kReferenceHeight = 480;
+
+// `options` with its image-size-dependent thresholds (see PairwiseOptions) multiplied by the
+// pair's mean image size (width + height) over 640x480's, when that is above 1; unchanged for
+// images of that size or smaller.
+PairwiseOptions ScaledToImages(const PairwiseOptions& options, int width_i, int height_i,
+                               int width_j, int height_j);
 
 // Why a pair's geometry is not trusted. kAmbiguous: several distinct solutions of similar
 // support, or one that too few candidates confirmed; the network stage may pick one of them

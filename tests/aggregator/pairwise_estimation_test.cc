@@ -102,6 +102,44 @@ TEST(PairwiseEstimation, EightCameraDomeUnsynchronised) {
   ExpectAcceptance(EstimateAllPairs(Capture(sim::RigLayout::kDome, 2, 600), 600, Unsynchronised()));
 }
 
+// Cameras of twice the reference resolution: before the thresholds scaled with the image
+// (ScaledToImages), 3 of the 28 pairs of this ring at 1280x960 passed the 60 px screen and
+// none of its cameras calibrated.
+TEST(PairwiseEstimation, EightCameraRingAtTwiceTheResolution) {
+  sim::CameraNetworkOptions network;
+  network.cameras = 8;
+  network.max_offset = 15.0;
+  network.seed = 4;
+  network.width = 1280;
+  network.height = 960;
+  sim::SceneOptions scene;
+  scene.seed = 4;
+  const int frames = 400;
+  ExpectAcceptance(
+      EstimateAllPairs(testing::MakeSimCapture(network, scene, frames), frames, Unsynchronised()));
+}
+
+TEST(PairwiseEstimation, ImageSizeThresholdsScaleAboveTheReferenceSizeOnly) {
+  const PairwiseOptions options;
+  const PairwiseOptions same = ScaledToImages(options, 640, 480, 640, 480);
+  const PairwiseOptions small = ScaledToImages(options, 320, 240, 640, 480);
+  const PairwiseOptions twice = ScaledToImages(options, 1280, 960, 1280, 960);
+  const PairwiseOptions mixed = ScaledToImages(options, 1920, 1080, 640, 480);
+  for (const PairwiseOptions* unchanged : {&same, &small}) {
+    EXPECT_EQ(unchanged->screen_max, options.screen_max);
+    EXPECT_EQ(unchanged->tau_start, options.tau_start);
+  }
+  EXPECT_DOUBLE_EQ(twice.tau_start, 2 * options.tau_start);
+  EXPECT_DOUBLE_EQ(twice.screen_min, 2 * options.screen_min);
+  EXPECT_DOUBLE_EQ(twice.screen_max, 2 * options.screen_max);
+  EXPECT_DOUBLE_EQ(twice.ambiguity_px, 2 * options.ambiguity_px);
+  EXPECT_DOUBLE_EQ(twice.min_motion_px, 2 * options.min_motion_px);
+  EXPECT_DOUBLE_EQ(mixed.screen_max, options.screen_max * (3000.0 + 1120.0) / 2240.0);
+  // Inlier thresholds are segmentation noise: unchanged.
+  EXPECT_EQ(twice.final_threshold, options.final_threshold);
+  EXPECT_EQ(twice.consensus_px, options.consensus_px);
+}
+
 TEST(PairwiseEstimation, RingWithDroppedFramesAndSpuriousBlobs) {
   // 1 % of frames lost, 10 % with a spurious blob large enough to survive the node's clean-up.
   const auto damage = [](size_t, int, cv::Mat* mask, std::mt19937_64* rng) {
