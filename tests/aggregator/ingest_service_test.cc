@@ -29,11 +29,17 @@ FrameRecord Good(uint64_t index) {
   return r;
 }
 
-TEST(IngestService, CountsDuplicatesOutOfOrderAndMalformedSamplesAndAsksForGaps) {
-  testing::TempDir dir;
+// An ingest storing into `dir`, on the test's DDS domain.
+IngestOptions StoringIn(const testing::TempDir& dir) {
   IngestOptions options;
   options.store_dir = dir / "store";
   options.domain = dds::DomainConfig::FromEnvironment();
+  return options;
+}
+
+TEST(IngestService, CountsDuplicatesOutOfOrderAndMalformedSamplesAndAsksForGaps) {
+  testing::TempDir dir;
+  IngestOptions options = StoringIn(dir);
   options.resend_grace = milliseconds(50);
   IngestService ingest(options);
   ingest.Open();
@@ -94,9 +100,7 @@ TEST(IngestService, CountsDuplicatesOutOfOrderAndMalformedSamplesAndAsksForGaps)
 // A node's own losses reach the camera's status, the totals and the summary file.
 TEST(IngestService, KeepsWhatTheNodesReportDroppedAndFlagged) {
   testing::TempDir dir;
-  IngestOptions options;
-  options.store_dir = dir / "store";
-  options.domain = dds::DomainConfig::FromEnvironment();
+  const IngestOptions options = StoringIn(dir);
   IngestService ingest(options);
   ingest.Open();
 

@@ -82,16 +82,25 @@ PairwiseOptions Unsynchronised() {
   return options;
 }
 
-testing::SimCapture Capture(sim::RigLayout layout, uint64_t seed, int frames,
-                            const testing::MaskDamage& damage = {}) {
+// Eight cameras offset by up to +-15 frames, their layout and the subject's walk from `seed`.
+sim::CameraNetworkOptions Network(sim::RigLayout layout, uint64_t seed) {
   sim::CameraNetworkOptions network;
   network.cameras = 8;
   network.layout = layout;
   network.max_offset = 15.0;
   network.seed = seed;
+  return network;
+}
+
+sim::SceneOptions Scene(uint64_t seed) {
   sim::SceneOptions scene;
   scene.seed = seed;
-  return testing::MakeSimCapture(network, scene, frames, damage);
+  return scene;
+}
+
+testing::SimCapture Capture(sim::RigLayout layout, uint64_t seed, int frames,
+                            const testing::MaskDamage& damage = {}) {
+  return testing::MakeSimCapture(Network(layout, seed), Scene(seed), frames, damage);
 }
 
 TEST(PairwiseEstimation, EightCameraRingUnsynchronised) {
@@ -106,17 +115,12 @@ TEST(PairwiseEstimation, EightCameraDomeUnsynchronised) {
 // (ScaledToImages), 3 of the 28 pairs of this ring at 1280x960 passed the 60 px screen and
 // none of its cameras calibrated.
 TEST(PairwiseEstimation, EightCameraRingAtTwiceTheResolution) {
-  sim::CameraNetworkOptions network;
-  network.cameras = 8;
-  network.max_offset = 15.0;
-  network.seed = 4;
+  sim::CameraNetworkOptions network = Network(sim::RigLayout::kRing, 4);
   network.width = 1280;
   network.height = 960;
-  sim::SceneOptions scene;
-  scene.seed = 4;
   const int frames = 400;
-  ExpectAcceptance(
-      EstimateAllPairs(testing::MakeSimCapture(network, scene, frames), frames, Unsynchronised()));
+  ExpectAcceptance(EstimateAllPairs(testing::MakeSimCapture(network, Scene(4), frames), frames,
+                                    Unsynchronised()));
 }
 
 TEST(PairwiseEstimation, ImageSizeThresholdsScaleAboveTheReferenceSizeOnly) {
@@ -162,15 +166,10 @@ TEST(PairwiseEstimation, RingWithDroppedFramesAndSpuriousBlobs) {
 TEST(PairwiseEstimation, RingFromSegmentedColourFrames) {
   // The node's median model on rendered colour frames (sensor noise, shadows, lighting
   // changes): 600 frames after its 225-frame warm-up, which the estimator leaves out.
-  sim::CameraNetworkOptions network;
-  network.cameras = 8;
-  network.max_offset = 15.0;
-  network.seed = 5;
-  sim::SceneOptions scene;
-  scene.seed = 5;
   const int frames = 825;
-  ExpectAcceptance(EstimateAllPairs(testing::MakeSegmentedSimCapture(network, scene, frames),
-                                    frames, Unsynchronised()));
+  ExpectAcceptance(EstimateAllPairs(
+      testing::MakeSegmentedSimCapture(Network(sim::RigLayout::kRing, 5), Scene(5), frames), frames,
+      Unsynchronised()));
 }
 
 TEST(PairwiseEstimation, AStaticSubjectIsFlaggedNotGuessed) {
