@@ -3,10 +3,15 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <exception>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "aggregator/hulls/ply_io.h"
+#include "aggregator/report/display_mesh.h"
 #include "aggregator/report/html_table.h"
+#include "aggregator/report/mesh_viewer.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -186,10 +191,39 @@ std::string ViewTable(const StereoJobResult& result) {
   return html;
 }
 
+// The model and the hull to turn in 3D (the job wrote both as PLY), or why they cannot be.
+std::string ThreeDView(const StereoJobConfig& config, const StereoJobResult& result) {
+  const std::string missing = InstallMeshViewer(config.output);
+  if (!missing.empty()) return Paragraph("No 3D view: " + missing, "bad");
+  try {
+    const std::pair<const char*, const std::string*> meshes[] = {{"model", &result.model.file},
+                                                                 {"hull", &result.hull.file}};
+    for (const auto& [name, file] : meshes) {
+      WriteViewerMesh(config.output, name,
+                      MakeDisplayMesh(ReadPlyMesh((config.output / *file).string())));
+    }
+  } catch (const std::exception& error) {
+    return Paragraph(fmt::format("No 3D view: {}", error.what()), "bad");
+  }
+  ViewerLayer model{"model", "stereo model"};
+  ViewerLayer hull{"hull", "visual hull (wireframe)", 0x6fa8dc, true, false};
+  // Seen at first as the first photograph sees it (image rows run down).
+  std::optional<ViewerStart> start;
+  if (!result.cameras.empty()) {
+    const CameraModel& camera = result.cameras.front();
+    start = ViewerStart{camera.Center(), -(camera.R.transpose() * Eigen::Vector3d::UnitY())};
+  }
+  return Paragraph(
+             "The model (and, ticked, the visual hull it was cut from), reduced for the browser "
+             "to at most 150 000 triangles; model.ply has them all.") +
+         MeshViewerHtml("stereo-view", {model, hull}, start);
+}
+
 }  // namespace
 
 void WriteStereoReport(const StereoJobConfig& config, const StereoJobResult& result) {
   std::string html = Section("Summary", JobSummary(config, result));
+  if (result.success) html += Section("3D view", ThreeDView(config, result));
   html += Section("Model and visual hull", MeshTable(result));
   html += Section("Stages", StageTable(result));
   if (result.graph_cut.nodes > 0) html += Section("Graph cut", GraphTable(result));

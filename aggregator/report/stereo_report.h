@@ -1,6 +1,7 @@
 #pragma once
 // The stereo job's report: one self-contained HTML page (OUT/report.html) for people to look
-// at. What the job made or why it made nothing; the model beside the visual hull (size,
+// at. What the job made or why it made nothing; the model and the hull to turn in 3D
+// (mesh_viewer.h, three.js copied beside the page); the model beside the visual hull (size,
 // silhouette consistency, accuracy and completeness against the truth when there is one);
 // time per stage; the graph cut's figures and silhouette steps; then per view its figures and
 // the picture the job drew (photo | model shaded from that camera | silhouette comparison).

@@ -147,6 +147,8 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   if (progress) progress->Restart("load", 1);
   const StereoViews views = LoadViews(config);
   result.views = views.views.size();
+  for (const StereoView& view : views.views)
+    result.cameras.push_back(view.camera);
   result.warnings = views.warnings;
   for (const std::string& warning : views.warnings)
     spdlog::warn("{}", warning);

@@ -39,6 +39,7 @@
 #include "aggregator/stereo/photo_consistency.h"
 #include "aggregator/stereo/stereo_truth.h"
 #include "aggregator/stereo/volumetric_graph_cut.h"
+#include "shared/geometry/camera_model.h"
 #include "shared/util/progress.h"
 
 namespace silnet::aggregator {
@@ -89,6 +90,7 @@ struct StereoJobResult {
   bool success = false;
   std::string reason;  // when !success: the stage and why ("visual hull: ...", "cancelled")
   size_t views = 0;    // views used
+  std::vector<CameraModel> cameras;   // their cameras (undistorted), in input order
   std::vector<std::string> warnings;  // the loader's and the stages'
   double footprint = 0;  // pixel footprint at the object, metres (the truth's, else estimated)
   StereoMeshSummary hull, model;

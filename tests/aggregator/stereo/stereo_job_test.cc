@@ -367,6 +367,10 @@ TEST(StereoJobTest, SimulatedStillsGiveAClosedModelMoreAccurateThanTheHull) {
   // the report links them all.
   const std::string report = ReadText(out / "report.html");
   EXPECT_NE(report.find("closed and manifold"), std::string::npos);
+  // The 3D view of the model and the hull (drawn in Chromium by the report tests).
+  EXPECT_NE(report.find("data-viewer-state"), std::string::npos);
+  for (const char* file : {"three.min.js", "OrbitControls.js", "model.js", "hull.js"})
+    EXPECT_TRUE(std::filesystem::exists(out / "viewer" / file)) << file;
   ASSERT_EQ(result.view_pictures.size(), 8u);
   for (const std::string& file : result.view_pictures) {
     const cv::Mat picture = cv::imread((out / file).string(), cv::IMREAD_COLOR);
