@@ -2,9 +2,15 @@
 
 #include <fmt/format.h>
 
+#include <exception>
 #include <opencv2/core/persistence.hpp>
+#include <optional>
+#include <vector>
 
+#include "aggregator/hulls/ply_io.h"
+#include "aggregator/report/display_mesh.h"
 #include "aggregator/report/html_table.h"
+#include "aggregator/report/mesh_viewer.h"
 #include "aggregator/report/report_sections.h"
 #include "shared/util/check.h"
 
@@ -152,6 +158,45 @@ void WriteSummaryYaml(const std::filesystem::path& path, const LiveJobResult& r)
   }
 }
 
+// The hulls to step through in 3D, seen at first as the first placed camera sees them, or why
+// they cannot be. The page loads them all: at most kViewerFrames frames, evenly spaced, of at
+// most kViewerTriangles triangles each (about 0.5 MB per frame).
+std::string HullsViewer(const std::filesystem::path& out, const LiveJobResult& r) {
+  constexpr size_t kViewerFrames = 40, kViewerTriangles = 10000;
+  if (!r.hulls || r.hulls->Succeeded() == 0) return "";
+  const std::string missing = InstallMeshViewer(out);
+  if (!missing.empty())
+    return fmt::format("<p class=\"bad\">No 3D view: {}</p>\n", EscapeHtml(missing));
+  std::vector<ViewerLayer> layers;
+  try {
+    std::vector<const HullFrameResult*> built;
+    for (const HullFrameResult& f : r.hulls->frames) {
+      if (f.success) built.push_back(&f);
+    }
+    const size_t step = (built.size() + kViewerFrames - 1) / kViewerFrames;
+    for (size_t i = 0; i < built.size(); i += step) {
+      const HullFrameResult& f = *built[i];
+      const std::string name = fmt::format("hull_{}", f.frame);
+      WriteViewerMesh(
+          out, name,
+          MakeDisplayMesh(ReadPlyMesh((out / "hulls" / f.file).string()), kViewerTriangles));
+      layers.push_back({name, fmt::format("frame {}", f.frame), 0x9fc5e8});
+    }
+  } catch (const std::exception& error) {
+    return fmt::format("<p class=\"bad\">No 3D view: {}</p>\n", EscapeHtml(error.what()));
+  }
+  std::optional<ViewerStart> start;
+  if (r.calibration) {
+    const NetworkCalibration& c = r.calibration->calibration;
+    for (size_t i = 0; i < c.cameras.size() && !start; ++i) {
+      if (i < c.placement.size() && !c.placement[i].placed) continue;
+      start = ViewerStart{c.cameras[i].Center(),
+                          -(c.cameras[i].R.transpose() * Eigen::Vector3d::UnitY())};
+    }
+  }
+  return MeshViewerHtml("hulls-view", layers, start, true);
+}
+
 }  // namespace
 
 void WriteLiveReport(const std::filesystem::path& out, const LiveJobResult& result) {
@@ -161,7 +206,7 @@ void WriteLiveReport(const std::filesystem::path& out, const LiveJobResult& resu
   html += Section("Streams", IngestSection(result));
   html += Section("Calibration and synchronisation", CalibrationSection(result));
   html += Section("Moved cameras", MovedCamerasSection(result));
-  html += Section("Visual hulls", HullsSection(result));
+  html += Section("Visual hulls", HullsViewer(out, result) + HullsSection(result));
   WriteHtmlPage(out / "report.html", "silnet live run", html);
   WriteSummaryYaml(out / "live_summary.yaml", result);
 }

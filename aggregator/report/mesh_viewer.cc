@@ -25,6 +25,8 @@ constexpr const char* kViewerScript = R"JS(
   try {
     if (!window.THREE || !THREE.OrbitControls) throw new Error('three.js did not load');
     const layers = LAYERS_;
+    const sequence = SEQUENCE_;
+    if (sequence) layers.forEach(function (layer, i) { layer.visible = i === 0; });
     const decode = function (text, Type) {
       const bytes = atob(text);
       const buffer = new Uint8Array(bytes.length);
@@ -67,10 +69,8 @@ constexpr const char* kViewerScript = R"JS(
       scene.add(object);
       objects[layer.name] = object;
       geometry.computeBoundingBox();
-      if (layer.visible) {
-        box.union(geometry.boundingBox);
-        triangles += mesh.triangles;
-      }
+      if (layer.visible || sequence) box.union(geometry.boundingBox);
+      if (layer.visible) triangles += mesh.triangles;
     }
     const centre = box.getCenter(new THREE.Vector3());
     const radius = Math.max(box.getSize(new THREE.Vector3()).length() / 2, 1e-6);
@@ -87,6 +87,16 @@ constexpr const char* kViewerScript = R"JS(
     const render = function () { renderer.render(scene, camera); };
     controls.addEventListener('change', render);
     controls.update();
+    const slider = root.querySelector('input.viewer-sequence');
+    if (slider) {
+      slider.addEventListener('input', function () {
+        layers.forEach(function (layer, i) {
+          objects[layer.name].visible = i === Number(slider.value);
+        });
+        root.querySelector('.viewer-frame').textContent = layers[Number(slider.value)].label;
+        render();
+      });
+    }
     for (const toggle of root.querySelectorAll('input[data-layer]')) {
       toggle.addEventListener('change', function () {
         objects[toggle.getAttribute('data-layer')].visible = toggle.checked;
@@ -107,6 +117,22 @@ std::string ReplaceAll(std::string text, const std::string& from, const std::str
   for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
     text.replace(at, from.size(), to);
   return text;
+}
+
+// `text` as the inside of a single-quoted JavaScript string that is safe inside <script>.
+std::string JsString(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '<') {
+      out += "\\x3c";
+    } else if (c == '\n') {
+      out += "\\n";
+    } else {
+      if (c == '\\' || c == '\'') out += '\\';
+      out += c;
+    }
+  }
+  return out;
 }
 
 bool IsPlainName(const std::string& name) {
@@ -167,7 +193,7 @@ void WriteViewerMesh(const fs::path& report_dir, const std::string& name, const 
 }
 
 std::string MeshViewerHtml(const std::string& id, const std::vector<ViewerLayer>& layers,
-                           const std::optional<ViewerStart>& start) {
+                           const std::optional<ViewerStart>& start, bool sequence) {
   SILNET_CHECK_MSG(IsPlainName(id), "viewer id '" << id << "'");
   std::string html = fmt::format(
       "<div id=\"{}\" class=\"viewer\" data-viewer-state=\"loading\">\n"
@@ -177,13 +203,22 @@ std::string MeshViewerHtml(const std::string& id, const std::vector<ViewerLayer>
   std::string json = "[";
   for (const ViewerLayer& layer : layers) {
     SILNET_CHECK_MSG(IsPlainName(layer.name), "viewer mesh name '" << layer.name << "'");
-    html += fmt::format("<label><input type=\"checkbox\" data-layer=\"{}\"{}> {}</label> ",
-                        layer.name, layer.visible ? " checked" : "", EscapeHtml(layer.label));
+    if (!sequence) {
+      html += fmt::format("<label><input type=\"checkbox\" data-layer=\"{}\"{}> {}</label> ",
+                          layer.name, layer.visible ? " checked" : "", EscapeHtml(layer.label));
+    }
     if (json.size() > 1) json += ",";
-    json += fmt::format("{{name: '{}', colour: {}, wireframe: {}, visible: {}}}", layer.name,
-                        layer.colour, layer.wireframe, layer.visible);
+    json += fmt::format("{{name: '{}', label: '{}', colour: {}, wireframe: {}, visible: {}}}",
+                        layer.name, JsString(layer.label), layer.colour, layer.wireframe,
+                        layer.visible);
   }
   json += "]";
+  if (sequence && !layers.empty()) {
+    html += fmt::format(
+        "<input type=\"range\" class=\"viewer-sequence\" min=\"0\" max=\"{}\" value=\"0\" "
+        "style=\"width:50%\"> <span class=\"viewer-frame\">{}</span> ",
+        layers.size() - 1, EscapeHtml(layers.front().label));
+  }
   html += "<span class=\"viewer-message muted\">loading the 3D view</span></p>\n";
   html += "<script src=\"viewer/three.min.js\"></script>\n";
   html += "<script src=\"viewer/OrbitControls.js\"></script>\n";
@@ -196,9 +231,10 @@ std::string MeshViewerHtml(const std::string& id, const std::vector<ViewerLayer>
           ? fmt::format("{{eye: [{}, {}, {}], up: [{}, {}, {}], direction: false}}", start->eye.x(),
                         start->eye.y(), start->eye.z(), start->up.x(), start->up.y(), start->up.z())
           : std::string("{eye: [0, -2.4, 0.9], up: [0, 0, 1], direction: true}");
-  html += ReplaceAll(
-      ReplaceAll(ReplaceAll(kViewerScript, "ID_", fmt::format("'{}'", id)), "LAYERS_", json),
-      "START_", start_json);
+  std::string script = ReplaceAll(kViewerScript, "ID_", fmt::format("'{}'", id));
+  script = ReplaceAll(script, "LAYERS_", json);
+  script = ReplaceAll(script, "START_", start_json);
+  html += ReplaceAll(script, "SEQUENCE_", sequence ? "true" : "false");
   html += "</script>\n</div>\n";
   return html;
 }

@@ -54,9 +54,12 @@ struct ViewerStart {
 
 // The HTML (container, checkboxes, script tags and the script) of a view of `layers`, framed
 // on the visible ones, turned with the mouse (OrbitControls). `id` makes it unique in a page.
-// Without `start` it looks from the side and above, z up (the simulator's world).
+// Without `start` it looks from the side and above, z up (the simulator's world). With
+// `sequence` the layers are the frames of a sequence: a slider shows one at a time (the first
+// at first, whatever `visible` says), framed on all of them so the view holds still.
 std::string MeshViewerHtml(const std::string& id, const std::vector<ViewerLayer>& layers,
-                           const std::optional<ViewerStart>& start = std::nullopt);
+                           const std::optional<ViewerStart>& start = std::nullopt,
+                           bool sequence = false);
 
 // Standard base64 (RFC 4648, with padding) of `size` bytes.
 std::string Base64(const void* data, size_t size);

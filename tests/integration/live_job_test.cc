@@ -8,6 +8,7 @@
 // the corrected calibration, shows its state through `silnet-aggregator status`, and
 // recalibrates on the newest frames when `silnet-aggregator recalibrate` asks.
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -139,6 +140,11 @@ TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsAndReport) {
   EXPECT_LE(static_cast<double>(hulls["mean_missed"]), 0.03) << missed_per_frame;
   EXPECT_LE(static_cast<double>(hulls["mean_spurious"]), 0.04);
   EXPECT_TRUE(std::filesystem::exists(out / "report.html"));
+  // The hulls to step through in 3D (drawn in Chromium by the report tests).
+  EXPECT_TRUE(std::filesystem::exists(out / "viewer/three.min.js"));
+  const int step = (built + 39) / 40;  // at most 40 frames, evenly spaced, go into the view
+  for (int k = 0; k < built; k += step)
+    EXPECT_TRUE(std::filesystem::exists(out / fmt::format("viewer/hull_{}.js", 420 + k))) << k;
   EXPECT_TRUE(std::filesystem::exists(out / "calibration/report/report.html"));
   EXPECT_TRUE(std::filesystem::exists(out / "calibration/calibration.yaml"));
   EXPECT_NE(live.Stdout().find("8 of 8 cameras"), std::string::npos) << live.Stdout();

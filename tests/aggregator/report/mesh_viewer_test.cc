@@ -154,6 +154,19 @@ TEST(MeshViewer, HeadlessChromiumDrawsTheMeshWithoutScriptErrors) {
   EXPECT_EQ(log.find("Uncaught"), std::string::npos) << log;
   EXPECT_EQ(log.find(":CONSOLE("), std::string::npos) << log;  // nothing logged by the page
 
+  // A sequence shows its first frame only, behind a slider.
+  const std::filesystem::path sequence_page = dir / "sequence.html";
+  WriteHtmlPage(
+      sequence_page, "sequence test",
+      MeshViewerHtml("frames", {ViewerLayer{"shell", "frame 1"}, ViewerLayer{"sphere", "frame 2"}},
+                     std::nullopt, true));
+  const std::string sequence_dom = RunChromium(sequence_page, {"--dump-dom"}, dir.path(), &log);
+  ASSERT_TRUE(std::regex_search(sequence_dom, state, std::regex("data-viewer-state=\"([^\"]*)\"")));
+  EXPECT_EQ(state[1].str(),
+            fmt::format("drawn {} triangles",
+                        MakeDisplayMesh(Sphere({0, 0, 1}, 0.5f, 10, 20)).triangles.size()));
+  EXPECT_NE(sequence_dom.find("class=\"viewer-sequence\""), std::string::npos);
+
   // The canvas shows the sphere: the model's colour around the middle of the view.
   RunChromium(
       page, {"--window-size=1000,700", fmt::format("--screenshot={}", (dir / "shot.png").string())},
