@@ -160,7 +160,7 @@ void WriteSummaryYaml(const std::filesystem::path& path, const LiveJobResult& r)
 
 // The hulls to step through in 3D, seen at first as the first placed camera sees them, or why
 // they cannot be. The page loads them all: at most kViewerFrames frames, evenly spaced, of at
-// most kViewerTriangles triangles each (about 0.5 MB per frame).
+// most kViewerTriangles triangles each (about 0.3 MB of script per frame).
 std::string HullsViewer(const std::filesystem::path& out, const LiveJobResult& r) {
   constexpr size_t kViewerFrames = 40, kViewerTriangles = 10000;
   if (!r.hulls || r.hulls->Succeeded() == 0) return "";
