@@ -4,20 +4,25 @@
 // coincide with its own (7x + 3, 7y + 3), so it is exactly the coarse render, and the 7x
 // mask's hull, scaled down, stands for the true outline (its own error is a seventh). Prints
 // the mean and rms support error of the coarse hulls, overall and per 15-degree band of
-// image directions (0 = +x, 90 = +y, down). Silhouettes cut by the image border are left out.
+// image directions (0 = +x, 90 = +y, down). Silhouettes cut by the image border are left out;
+// an unreadable mask, or one whose size is not a multiple of 7, stops it with the file named.
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
-#include <filesystem>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
+#include <string>
 #include <vector>
 
+#include "shared/io/dataset_layout.h"
 #include "shared/silhouette/silhouette_hull.h"
 
 namespace {
 
 constexpr int kScale = 7;
+constexpr int kCentre = kScale / 2;  // the fine pixel whose centre is the coarse pixel's
 constexpr int kBandDegrees = 15;
 
 double Support(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& direction) {
@@ -47,18 +52,23 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: silnet-boundary-probe DATASET (rendered at 7x)\n");
     return 2;
   }
-  namespace fs = std::filesystem;
+  const silnet::DatasetLayout layout(argv[1]);
   ErrorSums all;
   std::vector<ErrorSums> bands(360 / kBandDegrees);
-  for (const fs::directory_entry& camera : fs::directory_iterator(argv[1])) {
-    if (!fs::is_directory(camera.path() / "masks")) continue;
-    for (const fs::directory_entry& file : fs::directory_iterator(camera.path() / "masks")) {
-      const cv::Mat fine = cv::imread(file.path().string(), cv::IMREAD_GRAYSCALE);
-      if (fine.empty()) continue;
+  for (const std::string& camera : layout.CameraIds()) {
+    const int masks = layout.CountImages(camera, "masks");
+    for (int frame = 0; frame < masks; ++frame) {
+      const std::string path = layout.MaskPath(camera, frame).string();
+      const cv::Mat fine = cv::imread(path, cv::IMREAD_GRAYSCALE);
+      if (fine.empty() || fine.cols % kScale != 0 || fine.rows % kScale != 0) {
+        std::fprintf(stderr, "%s: unreadable, or its size is not a multiple of %d\n", path.c_str(),
+                     kScale);
+        return 1;
+      }
       cv::Mat coarse(fine.rows / kScale, fine.cols / kScale, CV_8UC1);
       for (int y = 0; y < coarse.rows; ++y) {
         for (int x = 0; x < coarse.cols; ++x) {
-          coarse.at<uint8_t>(y, x) = fine.at<uint8_t>(kScale * y + 3, kScale * x + 3);
+          coarse.at<uint8_t>(y, x) = fine.at<uint8_t>(kScale * y + kCentre, kScale * x + kCentre);
         }
       }
       silnet::MaskSummary coarse_summary, fine_summary;
@@ -79,7 +89,7 @@ int main(int argc, char** argv) {
     }
   }
   if (all.count == 0) {
-    std::fprintf(stderr, "no masks under %s/*/masks\n", argv[1]);
+    std::fprintf(stderr, "no silhouette inside the image under %s/*/masks\n", argv[1]);
     return 1;
   }
   std::printf("all directions: mean %+.3f px, rms %.3f px (%ld)\n", all.mean(), all.rms(),
