@@ -4,6 +4,8 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
+#include "aggregator/calibration/essential_refinement.h"
+
 namespace silnet::aggregator {
 
 // The relative pose of link (a -> b) from its essential matrix and correspondences.
@@ -30,6 +32,7 @@ std::optional<RelativePose> PoseOfLink(const ViewGraph& graph,
   Eigen::Vector3d t;
   cv::cv2eigen(t_cv, t);
   pose.t = t.normalized();
+  pose = RefineRelativePose(ci, cj, link->matches, pose);
   if (link->i == a) return pose;
   return RelativePose{pose.R.transpose(), -pose.R.transpose() * pose.t};
 }

@@ -20,7 +20,8 @@ struct RelativePose {
 };
 
 // The relative pose of cameras a -> b from their link's essential matrix: the decomposition
-// with the link's frontier points in front of both cameras (at least half of them). nullopt
+// with the link's frontier points in front of both cameras (at least half of them), refined
+// on those points (RefineRelativePose). nullopt
 // without a link, with fewer than 8 correspondences, or if no decomposition qualifies.
 std::optional<RelativePose> PoseOfLink(const ViewGraph& graph,
                                        const std::vector<CameraModel>& cameras, size_t a, size_t b);
