@@ -5,8 +5,8 @@
 #include <fstream>
 #include <random>
 
-#include "shared/util/frame_index_set.h"
 #include "shared/util/check.h"
+#include "shared/util/frame_index_set.h"
 #include "tests/support/temp_dir.h"
 
 namespace silnet::aggregator {
