@@ -429,6 +429,7 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
       }
       out.stages.push_back({"self-calibration", 0.0, SecondsSince(start), why});
       if (!scene) {
+        spdlog::info("self-calibration failed: {}", why);
         for (size_t c = 0; c < n; ++c) {
           if (projective.scene.present[c]) reasons[c] = "self-calibration failed: " + why;
         }
