@@ -100,6 +100,14 @@ CalibrateJobResult RunCalibrateJob(const CalibrateJobConfig& config, Progress* p
     pairs.input = config.input;
     pairs.output = config.output;
     pairs.options = config.pairwise;
+    if (!undistort && config.calibration.intrinsics.radial_terms > 0 &&
+        pairs.options.pair.local_fit_px < PairwiseOptions::kDistortedLocalFitPx) {
+      // The distortion to be estimated is still in the silhouettes: no pinhole F fits them
+      // as closely as the local fits otherwise ask for.
+      pairs.options.pair.local_fit_px = PairwiseOptions::kDistortedLocalFitPx;
+      spdlog::info("silhouettes with lens distortion: local fits accept {:.1f} px",
+                   pairs.options.pair.local_fit_px);
+    }
     pairs.overlays = OverlaySelection::kNone;
     if (progress) progress->Restart("pairs", sequences.size() * (sequences.size() - 1) / 2);
     result.pairs = RunPairsOnSequences(pairs, sequences, source, progress);

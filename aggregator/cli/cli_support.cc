@@ -66,6 +66,12 @@ void PairwiseArgs::AddTo(CLI::App* command) {
       ->capture_default_str();
   command->add_option("--iterations", iterations, "RANSAC iterations per pair at most")
       ->capture_default_str();
+  command
+      ->add_option("--local-fit", local_fit_px,
+                   "pixels within which a hypothesis's local fit must explain its frontier "
+                   "points (3 suits silhouettes with lens distortion; calibrate --distortion "
+                   "without --intrinsics raises it to 3 itself)")
+      ->capture_default_str();
   command->add_option("--mask-video", mask_video,
                       "read each camera's silhouettes from this video file in its folder "
                       "(e.g. foreground.avi; grey above 128 is silhouette)");
@@ -84,6 +90,7 @@ PairwiseJobOptions PairwiseArgs::Options() const {
   options.pair.offset_max = max_offset;
   options.pair.seed = seed;
   options.pair.max_iterations = iterations;
+  options.pair.local_fit_px = local_fit_px;
   if (const std::string reason = options.pair.Validate(); !reason.empty()) throw InputError(reason);
   return options;
 }

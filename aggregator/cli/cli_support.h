@@ -55,7 +55,7 @@ auto RunWithProgress(const std::string& name, Job&& job)
 // Command-line form of the pairwise options.
 struct PairwiseArgs {
   bool synchronized = false, use_timestamps = false;
-  double max_offset = 35.0, timestamp_sigma = 2.0;
+  double max_offset = 35.0, timestamp_sigma = 2.0, local_fit_px = 2.0;
   int threads = 0;
   uint64_t seed = 1;
   size_t iterations = 1000000;
@@ -63,7 +63,7 @@ struct PairwiseArgs {
   std::string frame_video;  // each camera folder's colour video (dataset input)
 
   // Adds --synchronized, --max-offset, --use-timestamps, --timestamp-sigma, --threads, --seed,
-  // --iterations, --mask-video and --video to `command`.
+  // --iterations, --local-fit, --mask-video and --video to `command`.
   void AddTo(CLI::App* command);
   // The job options; throws InputError for invalid values.
   PairwiseJobOptions Options() const;

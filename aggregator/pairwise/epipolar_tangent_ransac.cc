@@ -223,6 +223,7 @@ std::string PairwiseOptions::Validate() const {
   if (!synchronized && !(offset_max >= offset_min)) return "offset range is empty";
   if (agreeing < 1) return "agreeing must be at least 1";
   if (!(local_support > 0.0 && local_support <= 1.0)) return "local_support must lie in (0, 1]";
+  if (!(local_fit_px > 0.0)) return "local_fit_px must be positive";
   if (give_up_iterations != 0 && give_up_iterations < 1000)
     return "give_up_iterations must be 0 (never) or at least 1000";
   return {};
@@ -353,7 +354,7 @@ PairwiseResult EstimatePair(const SilhouetteSequence& i, const SilhouetteSequenc
   estimator.SetTau(screen);
   RefinementOptions local;
   local.initial_threshold = screen;
-  local.final_threshold = 2.0;
+  local.final_threshold = options.local_fit_px;
   local.max_rounds = 5;
   local.max_matches = 150;
   local.refine_offset = !options.synchronized;
@@ -441,9 +442,10 @@ PairwiseResult EstimatePair(const SilhouetteSequence& i, const SilhouetteSequenc
     return finish(
         PairStatus::kFailed,
         fmt::format("no hypothesis converged in {} iterations ({} screened; the best "
-                    "local fit {:.0f} % of the frontier correspondences, {:.0f} % needed)",
+                    "local fit {:.0f} % of the frontier correspondences within {:.1f} px, {:.0f} % "
+                    "needed)",
                     result.iterations, result.candidates, 100.0 * result.best_local_support,
-                    100.0 * options.local_support));
+                    options.local_fit_px, 100.0 * options.local_support));
   }
   std::sort(solutions.begin(), solutions.end(), [](const Solution& a, const Solution& b) {
     return a.support != b.support ? a.support > b.support : a.refined.inliers > b.refined.inliers;
