@@ -28,11 +28,6 @@ struct SampsonDistance {
   }
 };
 
-Eigen::Vector3d NormalisedPoint(const CameraModel& camera, const Eigen::Vector2d& pixel) {
-  const Eigen::Vector3d ray = camera.PixelRay(pixel);
-  return ray / ray.z();
-}
-
 }  // namespace
 
 RelativePose RefineRelativePose(const CameraModel& camera_i, const CameraModel& camera_j,
@@ -44,8 +39,8 @@ RelativePose RefineRelativePose(const CameraModel& camera_i, const CameraModel& 
   Eigen::Vector3d t = start.t.normalized();
   ceres::Problem problem;
   for (const Correspondence& m : matches) {
-    const Eigen::Vector3d a = NormalisedPoint(camera_i, m.x_i);
-    const Eigen::Vector3d b = NormalisedPoint(camera_j, m.x_j);
+    const Eigen::Vector3d a = camera_i.PixelRay(m.x_i);  // (x, y, 1)
+    const Eigen::Vector3d b = camera_j.PixelRay(m.x_j);
     if (!a.allFinite() || !b.allFinite()) continue;
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SampsonDistance, 1, 4, 3>(
                                  new SampsonDistance{a, b, camera_i.K(0, 0), camera_j.K(0, 0)}),
