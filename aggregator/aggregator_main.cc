@@ -24,10 +24,10 @@ int main(int argc, char** argv) {
   std::string log_level = "info";
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
       ->capture_default_str();
-  const cli::Command commands[] = {cli::AddIngestCommand(app),    cli::AddPairsCommand(app),
-                                   cli::AddCalibrateCommand(app), cli::AddHullsCommand(app),
-                                   cli::AddStereoCommand(app),    cli::AddLiveCommand(app),
-                                   cli::AddStatusCommand(app),    cli::AddRecalibrateCommand(app)};
+  const cli::Command commands[] = {
+      cli::AddIngestCommand(app), cli::AddPairsCommand(app),  cli::AddCalibrateCommand(app),
+      cli::AddHullsCommand(app),  cli::AddStereoCommand(app), cli::AddStillsCommand(app),
+      cli::AddLiveCommand(app),   cli::AddStatusCommand(app), cli::AddRecalibrateCommand(app)};
   CLI11_PARSE(app, argc, argv);
   cli::WatchSignals();
   try {

@@ -1,5 +1,6 @@
 #include "node/camera_node.h"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -10,7 +11,7 @@
 
 #include "node/publish/frame_history.h"
 #include "node/publish/frame_recorder.h"
-#include "node/publish/node_transport.h"
+#include "node/publish/still_store.h"
 #include "shared/io/session_log_reader.h"
 #include "shared/util/bounded_queue.h"
 
@@ -61,6 +62,16 @@ struct CameraNode::State {
     std::optional<FrameRecord> contour;
     bool resent = false;
   };
+  // A still to encode and send (photo non-empty), or chunks of a held one to send again.
+  struct StillJob {
+    uint64_t still_id = 0;
+    uint64_t frame_index = 0;
+    uint32_t frame_flags = 0;
+    int64_t capture_time_ns = 0;
+    cv::Mat photo, silhouette;
+    std::optional<silnet_wire_StillPart> part;  // resend: this part only (else both)
+    uint32_t first_chunk = 0, last_chunk = UINT32_MAX;
+  };
 
   CameraNodeOptions options;
   std::unique_ptr<CaptureSource> source;
@@ -73,6 +84,9 @@ struct CameraNode::State {
   std::unique_ptr<FrameRecorder> recorder;
   BoundedQueue<CaptureJob> processing_queue;
   BoundedQueue<PublishJob> publish_queue;
+  StillRequests still_requests;
+  StillStore still_store;
+  BoundedQueue<StillJob> still_queue{64};
   std::mutex info_mutex;
   CameraInfoRecord info;
   std::mutex latest_mutex;
@@ -87,7 +101,7 @@ struct CameraNode::State {
   std::atomic<bool> source_ended{false}, processing_done{false}, publishing_done{false};
   std::atomic<int64_t> last_captured_index{-1};  // newest frame index the source delivered
   std::atomic<uint64_t> captured{0}, processed{0}, published{0}, dropped{0}, flagged{0}, resent{0},
-      commands{0}, capture_errors{0};
+      commands{0}, capture_errors{0}, stills{0}, still_chunks_resent{0};
 
   State(CameraNodeOptions o, std::unique_ptr<CaptureSource> s)
       : options(std::move(o)),
@@ -107,6 +121,10 @@ struct CameraNode::State {
   void ProcessingLoop();
   void PublishingLoop();
   void ControlLoop();
+  void StillLoop();
+  void SendStill(const StillJob& job);
+  void ResendStill(const StillJob& job);
+  void TakeStillsDue(const CapturedFrame& frame, const ProcessedFrame& result);
   void Emit(ProcessedFrame frame);
   void EmitDropped(uint64_t from, uint64_t to, int64_t last_time_ns, double period_ns);
   void Record(SessionRecordType type, const std::vector<uint8_t>& payload);
@@ -200,10 +218,13 @@ void CameraNode::State::ProcessingLoop() {
                                : processor->Process(job->frame);
     }
     if (!job->frame.image.empty()) {
-      std::lock_guard lock(latest_mutex);
-      latest_image = job->frame.image;
-      latest_time_ns = job->frame.capture_time_ns;
+      {
+        std::lock_guard lock(latest_mutex);
+        latest_image = job->frame.image;
+        latest_time_ns = job->frame.capture_time_ns;
+      }
       ++processed;
+      TakeStillsDue(job->frame, result);
     }
     last_time_ns = job->frame.capture_time_ns;
     next_index = index + 1;
@@ -349,21 +370,28 @@ void CameraNode::State::HandleCommand(const silnet_wire_Command& command) {
       break;
     }
     case silnet_wire_COMMAND_CAPTURE_STILL: {
-      cv::Mat image;
-      int64_t time_ns = 0;
-      {
-        std::lock_guard lock(latest_mutex);
-        image = latest_image;
-        time_ns = latest_time_ns;
-      }
-      if (image.empty()) {
-        spdlog::warn("command {}: no frame to capture yet", command.command_id);
+      // The aggregator repeats a request it got no answer to: send the held still again.
+      if (still_store.Find(command.still_id)) {
+        spdlog::info("command {}: still {} asked for again; re-sending it", command.command_id,
+                     command.still_id);
+        StillJob again;
+        again.still_id = command.still_id;
+        still_queue.TryPush(std::move(again));
         break;
       }
-      std::vector<uint8_t> png;
-      cv::imencode(".png", image, png);
-      transport->PublishStill(command.command_id, time_ns, image.cols, image.rows, "png", png);
-      spdlog::info("command {}: still of {} bytes sent", command.command_id, png.size());
+      still_requests.Add(command.still_id, command.from_frame);
+      spdlog::info("command {}: still {} from frame {} on", command.command_id, command.still_id,
+                   command.from_frame);
+      break;
+    }
+    case silnet_wire_COMMAND_RESEND_STILL: {
+      StillJob job;
+      job.still_id = command.still_id;
+      job.part = command.still_part;
+      job.first_chunk = static_cast<uint32_t>(std::min<uint64_t>(command.from_frame, UINT32_MAX));
+      job.last_chunk = static_cast<uint32_t>(std::min<uint64_t>(command.to_frame, UINT32_MAX));
+      if (!still_queue.TryPush(std::move(job)))
+        spdlog::warn("command {}: still queue full; resend ignored", command.command_id);
       break;
     }
     case silnet_wire_COMMAND_RESEND: {
@@ -432,6 +460,80 @@ void CameraNode::State::ResendFromRecording(const silnet_wire_Command& command) 
                command.command_id, queued, command.session, command.from_frame);
 }
 
+// Hands the stills that frame `frame` satisfies to the still thread, with the frame's flags
+// (a silhouette of a warming-up background model is sent, and reported as such). A frame
+// without a silhouette (unusable input) satisfies none: the request waits for the next one.
+void CameraNode::State::TakeStillsDue(const CapturedFrame& frame, const ProcessedFrame& result) {
+  const cv::Mat& silhouette = result.mask;
+  if (still_requests.waiting() == 0 || silhouette.empty()) return;
+  for (uint64_t id : still_requests.TakeDue(frame.frame_index)) {
+    StillJob job;
+    job.still_id = id;
+    job.frame_index = frame.frame_index;
+    job.frame_flags = result.hull.flags;
+    job.capture_time_ns = frame.capture_time_ns;
+    job.photo = frame.image;
+    job.silhouette = silhouette.clone();
+    if (!still_queue.TryPush(std::move(job))) {
+      SetError(fmt::format("still {}: queue full, not taken", id));
+      spdlog::warn("still {}: still queue full, not taken", id);
+    }
+  }
+}
+
+void CameraNode::State::SendStill(const StillJob& job) {
+  EncodedStill still;
+  try {
+    still = EncodeStill(job.still_id, job.frame_index, job.frame_flags, job.capture_time_ns,
+                        job.photo, job.silhouette);
+  } catch (const InputError& e) {
+    SetError(fmt::format("still {}: {}", job.still_id, e.what()));
+    spdlog::error("still {}: {}", job.still_id, e.what());
+    return;
+  }
+  still_store.Add(still);
+  size_t chunks = 0;
+  for (silnet_wire_StillPart part : {silnet_wire_STILL_PHOTO, silnet_wire_STILL_SILHOUETTE}) {
+    chunks += transport->PublishStillChunks(still, part, 0, UINT32_MAX, options.still_chunk_bytes,
+                                            options.still_faults, halt);
+  }
+  ++stills;
+  spdlog::info("still {}: frame {}, {}x{}, {} + {} bytes in {} chunks sent", job.still_id,
+               job.frame_index, still.width, still.height, still.photo.size(),
+               still.silhouette.size(), chunks);
+}
+
+void CameraNode::State::ResendStill(const StillJob& job) {
+  const std::optional<EncodedStill> still = still_store.Find(job.still_id);
+  if (!still) {
+    spdlog::warn("still {}: asked to re-send it, but it is not held", job.still_id);
+    return;
+  }
+  size_t chunks = 0;
+  for (silnet_wire_StillPart part : {silnet_wire_STILL_PHOTO, silnet_wire_STILL_SILHOUETTE}) {
+    if (job.part && *job.part != part) continue;
+    chunks += transport->PublishStillChunks(*still, part, job.first_chunk, job.last_chunk,
+                                            options.still_chunk_bytes, StillChunkFaults{}, halt);
+  }
+  still_chunks_resent += chunks;
+  spdlog::info("still {}: {} chunks re-sent", job.still_id, chunks);
+}
+
+// Encodes and sends stills, and re-sends their chunks, off the processing thread.
+void CameraNode::State::StillLoop() {
+  while (!halt) {
+    std::optional<StillJob> job = still_queue.Pop(std::chrono::milliseconds(100));
+    if (!job) {
+      if (still_queue.closed()) break;
+      continue;
+    }
+    if (job->photo.empty())
+      ResendStill(*job);
+    else
+      SendStill(*job);
+  }
+}
+
 void CameraNode::State::ControlLoop() {
   auto next_status = Clock::now();
   auto last_time = Clock::now();
@@ -441,6 +543,12 @@ void CameraNode::State::ControlLoop() {
     for (const silnet_wire_Command& command :
          transport->TakeCommands(std::chrono::milliseconds(100))) {
       HandleCommand(command);
+    }
+    if (source_ended && processing_done && still_requests.waiting() > 0) {
+      for (uint64_t id : still_requests.TakeDue(UINT64_MAX)) {
+        SetError(fmt::format("still {}: the source ended before its frame", id));
+        spdlog::warn("still {}: the source ended before its frame; not taken", id);
+      }
     }
     const auto now = Clock::now();
     if (now < next_status) continue;
@@ -506,6 +614,7 @@ void CameraNode::Run(const std::atomic<bool>& stop) {
   std::thread processing([&s] { s.ProcessingLoop(); });
   std::thread publishing([&s] { s.PublishingLoop(); });
   std::thread control([&s] { s.ControlLoop(); });
+  std::thread stills([&s] { s.StillLoop(); });
 
   // Run until asked to stop, or until a finite source is done, published and lingered.
   std::optional<Clock::time_point> done_at;
@@ -531,7 +640,9 @@ void CameraNode::Run(const std::atomic<bool>& stop) {
   s.halt = true;
   s.processing_queue.Close();
   s.publish_queue.Close();
+  s.still_queue.Close();
   processing.join();
+  stills.join();
   publishing.join();
   control.join();
   s.source->Close();
@@ -557,6 +668,8 @@ NodeCounters CameraNode::Counters() const {
   c.resent = s.resent.load();
   c.commands = s.commands.load();
   c.capture_errors = s.capture_errors.load();
+  c.stills = s.stills.load();
+  c.still_chunks_resent = s.still_chunks_resent.load();
   return c;
 }
 

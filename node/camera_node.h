@@ -8,6 +8,9 @@
 //   publishing thread  writes HullFrame and Contour samples, retrying under back-pressure
 //   control thread     NodeStatus every status period, commands (start, stop, record,
 //                      set parameter, capture still, resend)
+//   still thread       encodes a commanded still (the first frame at or after the frame
+//                      asked for, with its silhouette) and sends it in checksummed chunks;
+//                      sends chunks again when the aggregator asks
 
 #include <atomic>
 #include <chrono>
@@ -17,6 +20,7 @@
 
 #include "node/capture/capture_source.h"
 #include "node/pipeline/frame_processor.h"
+#include "node/publish/node_transport.h"
 #include "shared/dds/domain_config.h"
 #include "shared/dds/qos.h"
 
@@ -35,6 +39,8 @@ struct CameraNodeOptions {
   // Capture waits for segmentation instead of dropping frames when it falls behind: for
   // replayed files and tests on a busy machine, never for a live camera (which cannot wait).
   bool lossless = false;
+  size_t still_chunk_bytes = 256 * 1024;  // Still samples carry at most this much image
+  StillChunkFaults still_faults;          // tests only: chunks dropped or corrupted once
   dds::DomainConfig domain;
   dds::QosSettings qos;
 
@@ -51,6 +57,8 @@ struct NodeCounters {
   uint64_t flagged = 0;    // frames published with any problem flag
   uint64_t resent = 0;     // frames re-sent on request
   uint64_t commands = 0;   // commands obeyed
+  uint64_t stills = 0;     // stills captured and sent
+  uint64_t still_chunks_resent = 0;
   uint64_t capture_errors = 0;
 };
 

@@ -102,6 +102,14 @@ int main(int argc, char** argv) {
   app.add_flag("--lossless", options.lossless,
                "replays: capture waits for segmentation instead of dropping frames when the "
                "machine is busy (never for a live camera)");
+  size_t still_chunk_kb = options.still_chunk_bytes / 1024;
+  app.add_option("--still-chunk-kb", still_chunk_kb, "stills travel in chunks of this many KiB")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 16384));
+  app.add_option("--test-drop-still-chunk", options.still_faults.drop_chunk,
+                 "tests: leave this chunk of every still part out of its first sending");
+  app.add_option("--test-corrupt-still-chunk", options.still_faults.corrupt_chunk,
+                 "tests: flip a byte of this chunk of every still part in its first sending");
   app.add_option("--session", session, "session number (default: start time in seconds)");
   app.add_option("--domain", domain, "DDS domain id (default: SILNET_DDS_DOMAIN or 0)");
   app.add_flag("--loopback", loopback, "DDS on 127.0.0.1 only");
@@ -143,6 +151,7 @@ int main(int argc, char** argv) {
       if (!options.processing.segmentation.Set(name, value, &error)) throw InputError(error);
     }
     options.record_dir = record_dir;
+    options.still_chunk_bytes = still_chunk_kb * 1024;
     options.linger = std::chrono::milliseconds(static_cast<int64_t>(linger_s * 1000));
     options.domain = silnet::dds::DomainConfig::FromEnvironment();
     if (domain >= 0) options.domain.domain_id = static_cast<uint32_t>(domain);

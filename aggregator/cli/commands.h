@@ -18,6 +18,7 @@ Command AddPairsCommand(CLI::App& app);
 Command AddCalibrateCommand(CLI::App& app);
 Command AddHullsCommand(CLI::App& app);
 Command AddStereoCommand(CLI::App& app);
+Command AddStillsCommand(CLI::App& app);
 Command AddLiveCommand(CLI::App& app);
 Command AddStatusCommand(CLI::App& app);
 Command AddRecalibrateCommand(CLI::App& app);

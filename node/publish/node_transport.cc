@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "shared/util/crc32.h"
+
 namespace silnet::node {
 
 NodeTransport::NodeTransport(const dds::DomainConfig& domain, std::string camera_id,
@@ -54,28 +56,47 @@ void NodeTransport::PublishStatus(const silnet_wire_NodeStatus& status) {
   if (!status_writer_.Write(status)) spdlog::debug("status write timed out");
 }
 
-void NodeTransport::PublishStill(uint64_t still_id, int64_t capture_time_ns, int width, int height,
-                                 const std::string& encoding, const std::vector<uint8_t>& data,
-                                 size_t chunk_bytes) {
+size_t NodeTransport::PublishStillChunks(const EncodedStill& still, silnet_wire_StillPart part,
+                                         uint32_t first, uint32_t last, size_t chunk_bytes,
+                                         const StillChunkFaults& faults,
+                                         const std::atomic<bool>& stop) {
+  const std::vector<uint8_t>& data =
+      part == silnet_wire_STILL_PHOTO ? still.photo : still.silhouette;
+  chunk_bytes = std::max<size_t>(chunk_bytes, 1);
   const size_t chunks = std::max<size_t>(1, (data.size() + chunk_bytes - 1) / chunk_bytes);
-  const std::atomic<bool> never_stop{false};
-  for (size_t i = 0; i < chunks; ++i) {
+  const uint32_t image_crc = Crc32(0, data.data(), data.size());
+  size_t written = 0;
+  for (size_t i = first; i < chunks && i <= last; ++i) {
+    if (static_cast<int>(i) == faults.drop_chunk) continue;
+    const size_t begin = i * chunk_bytes, end = std::min(data.size(), begin + chunk_bytes);
+    std::vector<uint8_t> bytes(data.begin() + static_cast<std::ptrdiff_t>(begin),
+                               data.begin() + static_cast<std::ptrdiff_t>(end));
     silnet_wire_Still sample{};
     dds::CopyBoundedString(camera_id_, sample.camera_id, "camera id");
-    sample.still_id = still_id;
+    sample.still_id = still.still_id;
+    sample.part = part;
     sample.chunk_index = static_cast<uint32_t>(i);
     sample.chunk_count = static_cast<uint32_t>(chunks);
-    sample.capture_time_ns = capture_time_ns;
-    sample.image_width = static_cast<uint16_t>(width);
-    sample.image_height = static_cast<uint16_t>(height);
-    dds::CopyBoundedString(encoding, sample.encoding, "encoding");
-    const size_t begin = i * chunk_bytes, end = std::min(data.size(), begin + chunk_bytes);
-    sample.data._buffer = const_cast<uint8_t*>(data.data() + begin);
-    sample.data._length = static_cast<uint32_t>(end - begin);
+    sample.frame_index = still.frame_index;
+    sample.frame_flags = still.frame_flags;
+    sample.capture_time_ns = still.capture_time_ns;
+    sample.image_width = static_cast<uint16_t>(still.width);
+    sample.image_height = static_cast<uint16_t>(still.height);
+    dds::CopyBoundedString(part == silnet_wire_STILL_PHOTO ? still.photo_encoding : "png",
+                           sample.encoding, "encoding");
+    sample.image_bytes = data.size();
+    sample.image_crc32 = image_crc;
+    sample.chunk_crc32 = Crc32(0, bytes.data(), bytes.size());
+    if (static_cast<int>(i) == faults.corrupt_chunk && !bytes.empty())
+      bytes[bytes.size() / 2] ^= 0x5a;
+    sample.data._buffer = bytes.data();
+    sample.data._length = static_cast<uint32_t>(bytes.size());
     sample.data._maximum = sample.data._length;
     sample.data._release = false;
-    WriteRetrying(still_writer_, sample, never_stop);
+    if (!WriteRetrying(still_writer_, sample, stop)) break;
+    ++written;
   }
+  return written;
 }
 
 std::vector<silnet_wire_Command> NodeTransport::TakeCommands(std::chrono::milliseconds wait) {

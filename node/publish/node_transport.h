@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "node/publish/still_store.h"
 #include "shared/dds/sample_conversions.h"
 #include "shared/dds/topics.h"
 
@@ -17,6 +18,13 @@ namespace silnet::node {
 struct TransportCounters {
   uint64_t write_timeouts = 0;  // writes that waited for slow readers and were retried
   uint32_t hull_readers = 0;    // readers matched on the HullFrame topic
+};
+
+// Faults a test injects into the first sending of a still's chunks (-1: none), so the
+// aggregator's re-requests and checksums are exercised between real processes.
+struct StillChunkFaults {
+  int drop_chunk = -1;     // this chunk of each part is not sent
+  int corrupt_chunk = -1;  // this chunk of each part is sent with one byte flipped
 };
 
 // Writers and the command reader of one camera node.
@@ -32,10 +40,12 @@ class NodeTransport {
   bool PublishContour(const FrameRecord& record, const std::atomic<bool>& stop);
   void PublishCameraInfo(const CameraInfoRecord& info);
   void PublishStatus(const silnet_wire_NodeStatus& status);
-  // Sends an encoded image in chunks of at most `chunk_bytes`.
-  void PublishStill(uint64_t still_id, int64_t capture_time_ns, int width, int height,
-                    const std::string& encoding, const std::vector<uint8_t>& data,
-                    size_t chunk_bytes = 256 * 1024);
+  // Sends chunks [first, last] (clamped to the image's) of one part of `still`, each of at
+  // most `chunk_bytes` with its CRC-32 and the whole image's; `faults` drop or corrupt one.
+  // Returns the chunks written; stops early (false writes) only when `stop` becomes true.
+  size_t PublishStillChunks(const EncodedStill& still, silnet_wire_StillPart part, uint32_t first,
+                            uint32_t last, size_t chunk_bytes, const StillChunkFaults& faults,
+                            const std::atomic<bool>& stop);
 
   // Commands addressed to this camera (or to "*") that arrived, waiting up to `wait`.
   std::vector<silnet_wire_Command> TakeCommands(std::chrono::milliseconds wait);

@@ -6,7 +6,6 @@
 #include <sys/stat.h>
 #include <sys/uio.h>
 #include <unistd.h>
-#include <zlib.h>
 
 #include <algorithm>
 #include <array>
@@ -17,6 +16,7 @@
 #include <utility>
 
 #include "shared/util/check.h"
+#include "shared/util/crc32.h"
 #include "shared/util/log.h"
 
 namespace silnet {
@@ -66,18 +66,6 @@ uint64_t GetU64(const uint8_t* in) {
   for (int i = 7; i >= 0; --i)
     value = (value << 8) | in[i];
   return value;
-}
-
-// Continues zlib's CRC-32 `crc` over `size` bytes.
-uint32_t Crc32(uint32_t crc, const uint8_t* data, std::size_t size) {
-  uLong value = crc;
-  while (size > 0) {
-    const std::size_t part = std::min<std::size_t>(size, std::size_t{1} << 30);
-    value = crc32(value, data, static_cast<uInt>(part));
-    data += part;
-    size -= part;
-  }
-  return static_cast<uint32_t>(value);
 }
 
 std::string ErrnoText(int error_number) {

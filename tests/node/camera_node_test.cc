@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <thread>
@@ -12,6 +13,7 @@
 #include "node/capture/files/image_folder_source.h"
 #include "shared/dds/sample_conversions.h"
 #include "shared/io/session_log_reader.h"
+#include "shared/util/crc32.h"
 #include "tests/support/temp_dir.h"
 
 namespace silnet::node {
@@ -60,8 +62,8 @@ class CameraNodeTest : public ::testing::Test {
   }
 
   void Send(silnet_wire_CommandKind kind, const std::string& name = "",
-            const std::string& value = "") {
-    silnet_wire_Command command{};
+            const std::string& value = "", const silnet_wire_Command* base = nullptr) {
+    silnet_wire_Command command = base ? *base : silnet_wire_Command{};
     command.command_id = ++command_id_;
     dds::CopyBoundedString("test", command.issuer, "issuer");
     dds::CopyBoundedString("camT", command.target, "target");
@@ -113,21 +115,32 @@ TEST_F(CameraNodeTest, ObeysCommandsAndReportsItsState) {
     return info.parameters.at("min_blob_area") == "77";
   }));
 
-  // A still arrives in chunks and decodes to one of the camera's frames.
-  Send(silnet_wire_COMMAND_CAPTURE_STILL);
-  std::vector<uint8_t> png;
-  uint32_t chunks = 0, expected_chunks = 1;
+  // A still arrives in checksummed chunks: the photo decodes to one of the camera's frames,
+  // the silhouette part is of the same frame and size.
+  silnet_wire_Command capture{};
+  capture.still_id = 5;
+  Send(silnet_wire_COMMAND_CAPTURE_STILL, "", "", &capture);
+  std::map<silnet_wire_StillPart, std::vector<uint8_t>> bytes;
+  std::map<silnet_wire_StillPart, uint32_t> chunks, expected_chunks;
+  std::map<silnet_wire_StillPart, uint64_t> frames;
   ASSERT_TRUE(Eventually([&] {
     stills_.Take([&](const silnet_wire_Still& s, const dds_sample_info_t&) {
-      png.insert(png.end(), s.data._buffer, s.data._buffer + s.data._length);
-      expected_chunks = s.chunk_count;
-      ++chunks;
+      EXPECT_EQ(s.still_id, 5u);
+      EXPECT_EQ(Crc32(0, s.data._buffer, s.data._length), s.chunk_crc32);
+      bytes[s.part].insert(bytes[s.part].end(), s.data._buffer, s.data._buffer + s.data._length);
+      expected_chunks[s.part] = s.chunk_count;
+      frames[s.part] = s.frame_index;
+      ++chunks[s.part];
     });
-    return chunks > 0 && chunks == expected_chunks;
+    return chunks.size() == 2 && chunks == expected_chunks;
   }));
-  const cv::Mat still = cv::imdecode(png, cv::IMREAD_UNCHANGED);
+  const cv::Mat still = cv::imdecode(bytes[silnet_wire_STILL_PHOTO], cv::IMREAD_UNCHANGED);
   ASSERT_EQ(still.size(), cv::Size(128, 96));
   EXPECT_GT(cv::countNonZero(still), 500);
+  const cv::Mat silhouette =
+      cv::imdecode(bytes[silnet_wire_STILL_SILHOUETTE], cv::IMREAD_GRAYSCALE);
+  ASSERT_EQ(silhouette.size(), cv::Size(128, 96));
+  EXPECT_EQ(frames[silnet_wire_STILL_PHOTO], frames[silnet_wire_STILL_SILHOUETTE]);
 
   // Stop: no new frames; start: frames again.
   Send(silnet_wire_COMMAND_STOP);
