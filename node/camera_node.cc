@@ -7,11 +7,13 @@
 
 #include <mutex>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <thread>
 
 #include "node/publish/frame_history.h"
 #include "node/publish/frame_recorder.h"
 #include "node/publish/still_store.h"
+#include "node/segmentation/background_difference.h"
 #include "shared/io/session_log_reader.h"
 #include "shared/util/bounded_queue.h"
 
@@ -50,6 +52,12 @@ std::string CameraNodeOptions::Validate() const {
   if (status_period < std::chrono::milliseconds(50)) return "status period below 50 ms";
   return processing.segmentation.Validate();
 }
+
+// What a still sends: its photo, silhouette and the silhouette's FrameFlags.
+struct StillPicture {
+  cv::Mat photo, silhouette;
+  uint32_t flags = 0;
+};
 
 struct CameraNode::State {
   struct CaptureJob {
@@ -122,6 +130,7 @@ struct CameraNode::State {
   void PublishingLoop();
   void ControlLoop();
   void StillLoop();
+  StillPicture PictureOf(const StillJob& job);
   void SendStill(const StillJob& job);
   void ResendStill(const StillJob& job);
   void TakeStillsDue(const CapturedFrame& frame, const ProcessedFrame& result);
@@ -481,11 +490,32 @@ void CameraNode::State::TakeStillsDue(const CapturedFrame& frame, const Processe
   }
 }
 
+// The photo and silhouette of a still: the frame and its silhouette, or the source's own
+// still with its silhouette against the still stream's background (else the frame's
+// silhouette brought to the still's size).
+StillPicture CameraNode::State::PictureOf(const StillJob& job) {
+  CapturedFrame frame;
+  frame.frame_index = job.frame_index;
+  frame.capture_time_ns = job.capture_time_ns;
+  frame.image = job.photo;
+  std::optional<StillPhoto> own = source->TakeStill(frame);
+  if (!own) return {job.photo, job.silhouette, job.frame_flags};
+  if (own->background.empty()) {
+    cv::Mat resized;
+    cv::resize(job.silhouette, resized, own->photo.size(), 0, 0, cv::INTER_LINEAR);
+    return {own->photo, resized >= 128, job.frame_flags};
+  }
+  cv::Mat mask = SegmentAgainstBackground(own->photo, own->background).mask;
+  const uint32_t flags = cv::countNonZero(mask) == 0 ? silnet_wire_FRAME_EMPTY : 0u;
+  return {own->photo, std::move(mask), flags};
+}
+
 void CameraNode::State::SendStill(const StillJob& job) {
   EncodedStill still;
   try {
-    still = EncodeStill(job.still_id, job.frame_index, job.frame_flags, job.capture_time_ns,
-                        job.photo, job.silhouette);
+    const StillPicture picture = PictureOf(job);
+    still = EncodeStill(job.still_id, job.frame_index, picture.flags, job.capture_time_ns,
+                        picture.photo, picture.silhouette);
   } catch (const InputError& e) {
     SetError(fmt::format("still {}: {}", job.still_id, e.what()));
     spdlog::error("still {}: {}", job.still_id, e.what());

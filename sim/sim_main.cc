@@ -6,10 +6,12 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <regex>
 
+#include "shared/io/calibration_yaml.h"
 #include "shared/util/check.h"
 #include "shared/util/log.h"
 #include "sim/dataset_generator.h"
@@ -65,14 +67,35 @@ int RunGenerate(const silnet::sim::SimulationOptions& base, const std::string& o
 }
 
 int RunStills(silnet::sim::StillsOptions options, const std::string& output,
-              const std::string& size, const std::string& layout) {
+              const std::string& size, const std::string& layout, const std::string& cameras_from,
+              double scale) {
   std::tie(options.network.width, options.network.height) = ParseSize(size);
   options.network.layout = silnet::sim::ParseRigLayout(layout);
-  silnet::Progress progress("stills", static_cast<size_t>(options.network.cameras),
+  if (!cameras_from.empty()) {
+    // A live dataset's cameras at the still resolution: what its nodes' still streams see.
+    if (!(scale > 0.0 && scale <= 8.0)) throw InputError("--scale must lie in (0, 8]");
+    for (const silnet::CameraModel& c :
+         silnet::LoadCalibration(std::filesystem::path(cameras_from) / "ground_truth.yaml")) {
+      options.cameras.push_back(
+          silnet::CameraAtImageSize(c, static_cast<int>(std::lround(c.width * scale)),
+                                    static_cast<int>(std::lround(c.height * scale))));
+    }
+  }
+  silnet::Progress progress("stills",
+                            options.cameras.empty() ? static_cast<size_t>(options.network.cameras)
+                                                    : options.cameras.size(),
                             silnet::ConsoleProgressPrinter(), std::chrono::seconds(2));
-  spdlog::info("rendering stills of the statue from {} cameras ({}x{}, {} layout, seed {}) into {}",
-               options.network.cameras, options.network.width, options.network.height, layout,
-               options.seed, output);
+  if (options.cameras.empty()) {
+    spdlog::info(
+        "rendering stills of the statue from {} cameras ({}x{}, {} layout, seed {}) into {}",
+        options.network.cameras, options.network.width, options.network.height, layout,
+        options.seed, output);
+  } else {
+    spdlog::info(
+        "rendering stills of the statue from the {} cameras of {} ({}x{}, seed {}) into {}",
+        options.cameras.size(), cameras_from, options.cameras.front().width,
+        options.cameras.front().height, options.seed, output);
+  }
   const auto summary = silnet::sim::GenerateStills(options, output, &progress);
   std::printf("wrote %zu images and %zu surface points (%.1f MB) for %zu cameras in %.1f s\n",
               summary.images_written, summary.surface_points,
@@ -202,6 +225,16 @@ int main(int argc, char** argv) {
   stills->add_flag("--backgrounds", stills_options.write_backgrounds,
                    "also write <camera>/background.png, the empty room");
   stills->add_flag("--force", stills_options.overwrite, "write into a non-empty folder");
+  std::string stills_cameras_from;
+  double stills_scale = 1.0;
+  stills->add_option(
+      "--cameras-from", stills_cameras_from,
+      "use the cameras of this `generate` dataset instead of a new ring or dome "
+      "(write into <dataset>/statue: its nodes' still streams then show the statue)");
+  stills
+      ->add_option("--scale", stills_scale,
+                   "with --cameras-from: the stills' resolution relative to the dataset's")
+      ->capture_default_str();
 
   silnet::sim::NodeLaunchOptions nodes;
   std::string node_binary;
@@ -236,7 +269,8 @@ int main(int argc, char** argv) {
     if (stills->parsed()) {
       if (stills_layout != "ring" && stills_layout != "dome")
         throw InputError("stills take a ring or a dome of cameras, not '" + stills_layout + "'");
-      return RunStills(stills_options, stills_output, stills_size, stills_layout);
+      return RunStills(stills_options, stills_output, stills_size, stills_layout,
+                       stills_cameras_from, stills_scale);
     }
     if (run_nodes->parsed()) {
       nodes.node_binary =

@@ -90,11 +90,13 @@ StillsSummary GenerateStills(const StillsOptions& options, const std::filesystem
   network.radius = options.radius > 0.0 ? options.radius
                                         : focal * (high - low) / (options.fill * network.height);
   StillsSummary summary;
-  summary.cameras = MakeCameraNetwork(network);
-  summary.radius = network.radius;
+  summary.cameras = options.cameras.empty() ? MakeCameraNetwork(network) : options.cameras;
   const Eigen::Vector3d target(0.0, 0.0, network.target_height);
+  size_t pixels = 0;
   for (const CameraModel& c : summary.cameras) {
     summary.footprint += (c.Center() - target).norm() / c.K(0, 0);
+    summary.radius += (c.Center() - target).norm() / static_cast<double>(summary.cameras.size());
+    pixels = std::max(pixels, static_cast<size_t>(c.width) * static_cast<size_t>(c.height));
   }
   summary.footprint /= static_cast<double>(summary.cameras.size());
   summary.surface_spacing =
@@ -106,10 +108,8 @@ StillsSummary GenerateStills(const StillsOptions& options, const std::filesystem
   }
   RenderSettings render = options.render;
   render.seed = options.seed;
-  const auto noise = std::make_shared<const SensorNoise>(
-      render.noise_sigma,
-      static_cast<size_t>(network.width) * static_cast<size_t>(network.height) * 3,
-      MixSeed(render.seed, 0x5E5u));
+  const auto noise = std::make_shared<const SensorNoise>(render.noise_sigma, pixels * 3,
+                                                         MixSeed(render.seed, 0x5E5u));
   std::atomic<size_t> bytes{0}, images{0};
   ParallelFor(summary.cameras.size(), options.threads, [&](size_t i) {
     if (progress != nullptr && progress->cancelled()) throw std::runtime_error("cancelled");
@@ -133,7 +133,7 @@ StillsSummary GenerateStills(const StillsOptions& options, const std::filesystem
   SaveCalibration(output / "calibration.yaml", summary.cameras);
   GroundTruthScene truth;
   truth.subject = ToString(SubjectKind::kStillsStatue);
-  truth.layout = ToString(network.layout);
+  truth.layout = options.cameras.empty() ? ToString(network.layout) : "given";
   truth.seed = options.seed;
   truth.reference_fps = network.fps;
   truth.frames = 1;

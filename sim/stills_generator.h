@@ -33,6 +33,9 @@ struct StillsOptions {
   // Cameras; target_height is set to the statue's mid-height and radius from `fill` unless
   // `radius` is positive.
   CameraNetworkOptions network = StillsNetworkDefaults();
+  // Given cameras (e.g. a live dataset's, carried over to a still resolution) used instead of
+  // `network`, `radius` and `fill`: the statue stands at the origin, where they look.
+  std::vector<CameraModel> cameras;
   double radius = 0.0;  // camera distance from the statue's centre, m; 0 = from `fill`
   double fill = 0.7;    // nominal share of the image height the statue's height fills
   RenderSettings render;

@@ -4,6 +4,11 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
+
+namespace silnet::aggregator {
+struct StereoJobResult;
+}  // namespace silnet::aggregator
 
 namespace silnet::aggregator::cli {
 
@@ -22,5 +27,9 @@ Command AddStillsCommand(CLI::App& app);
 Command AddLiveCommand(CLI::App& app);
 Command AddStatusCommand(CLI::App& app);
 Command AddRecalibrateCommand(CLI::App& app);
+
+// Prints a stereo job's outcome (the model's figures, or why there is none) for the model
+// written to `out`; returns the exit code (0, or 3 without a model).
+int PrintStereoResult(const StereoJobResult& result, const std::string& out);
 
 }  // namespace silnet::aggregator::cli

@@ -41,10 +41,15 @@ int RunStereo(const StereoArgs& args) {
   const auto run =
       RunWithProgress("stereo", [&](Progress* progress) { return RunStereoJob(config, progress); });
   if (!run) return 130;
-  const StereoJobResult& result = *run;
+  return PrintStereoResult(*run, args.out);
+}
+
+}  // namespace
+
+int PrintStereoResult(const StereoJobResult& result, const std::string& out) {
   if (!result.success) {
     std::printf("stereo: no model: %s (%.1f s) -> %s/stereo.yaml\n", result.reason.c_str(),
-                result.seconds.total, args.out.c_str());
+                result.seconds.total, out.c_str());
     return 3;
   }
   std::printf(
@@ -54,14 +59,11 @@ int RunStereo(const StereoArgs& args) {
       result.views, result.model.triangles, result.lattice_dims[0], result.lattice_dims[1],
       result.lattice_dims[2], result.cell_size * 1e3, result.graph_cut.nodes,
       result.model.MissedInner(), result.model.CoveredOuter(), result.seconds.total,
-      result.seconds.hull, result.seconds.photo_consistency, result.seconds.graph_cut,
-      args.out.c_str());
+      result.seconds.hull, result.seconds.photo_consistency, result.seconds.graph_cut, out.c_str());
   PrintEvaluation("model", result.model);
   PrintEvaluation("visual hull", result.hull);
   return 0;
 }
-
-}  // namespace
 
 Command AddStereoCommand(CLI::App& app) {
   auto args = std::make_shared<StereoArgs>();

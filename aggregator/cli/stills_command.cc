@@ -18,7 +18,7 @@ namespace silnet::aggregator::cli {
 namespace {
 
 struct StillsArgs {
-  std::string out, calibration;
+  std::string out, calibration, truth;
   double at_s = -1.0;  // reference time of the still, seconds (negative: each node's next frame)
   double timeout_s = 30.0, discovery_s = 5.0;
   bool stereo = false;
@@ -57,6 +57,10 @@ int RunStills(const StillsArgs& args) {
     return 3;
   }
   WriteStillsFolder(out, views);
+  if (!args.truth.empty()) {
+    std::filesystem::copy_file(args.truth, out / "gt_surface.ply",
+                               std::filesystem::copy_options::overwrite_existing);
+  }
   if (!args.stereo) return 0;
   StereoJobConfig config;
   config.input = out;
@@ -65,14 +69,7 @@ int RunStills(const StillsArgs& args) {
   const auto model =
       RunWithProgress("stereo", [&](Progress* progress) { return RunStereoJob(config, progress); });
   if (!model) return 130;
-  if (!model->success) {
-    std::printf("stereo: no model: %s -> %s/stereo.yaml\n", model->reason.c_str(),
-                config.output.string().c_str());
-    return 3;
-  }
-  std::printf("stereo: %zu views, model %zu triangles in %.1f s -> %s/model.ply\n", model->views,
-              model->model.triangles, model->seconds.total, config.output.string().c_str());
-  return 0;
+  return PrintStereoResult(*model, config.output.string());
 }
 
 }  // namespace
@@ -97,6 +94,10 @@ Command AddStillsCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_flag("--stereo", args->stereo, "then build the stereo model into <out>/stereo");
+  cmd->add_option("--truth", args->truth,
+                  "the subject's true surface (gt_surface.ply of simulated stills): copied "
+                  "beside the stills, so the stereo model is scored against it")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--domain", args->domain, "DDS domain id (default: SILNET_DDS_DOMAIN or 0)");
   cmd->add_flag("--loopback", args->loopback, "DDS on 127.0.0.1 only");
   return {cmd, [args] { return RunStills(*args); }};

@@ -11,26 +11,6 @@
 
 namespace silnet::aggregator {
 
-CameraModel CameraAtImageSize(const CameraModel& camera, int width, int height) {
-  if (camera.width <= 0 || camera.height <= 0 || width <= 0 || height <= 0)
-    throw InputError("image sizes must be positive");
-  const double sx = static_cast<double>(width) / camera.width;
-  const double sy = static_cast<double>(height) / camera.height;
-  if (std::abs(sx / sy - 1.0) > 0.01) {
-    throw InputError(fmt::format("{}x{} has another aspect ratio than the calibration's {}x{}",
-                                 width, height, camera.width, camera.height));
-  }
-  CameraModel scaled = camera;
-  scaled.width = width;
-  scaled.height = height;
-  // Pixel centres: x' + 0.5 = s (x + 0.5).
-  scaled.K.row(0) *= sx;
-  scaled.K.row(1) *= sy;
-  scaled.K(0, 2) += 0.5 * (sx - 1.0);
-  scaled.K(1, 2) += 0.5 * (sy - 1.0);
-  return scaled;
-}
-
 uint64_t FirstFrameAtOrAfter(const CameraModel& camera, double t) {
   const double k = std::ceil(t * camera.fps - camera.time_offset - 1e-9);
   return k > 0 ? static_cast<uint64_t>(k) : 0;

@@ -1,8 +1,8 @@
 #pragma once
 // Collected stills as the stereo job's input: the complete stills of the cameras of the
 // calibration in use, each camera's model carried over to the still's resolution when the
-// node took it larger or smaller than the calibration's images (same aspect ratio: K scaled
-// about the pixel-centre convention), and a summary file of the collection.
+// node took it larger or smaller than the calibration's images (CameraAtImageSize), and a
+// summary file of the collection.
 
 #include <filesystem>
 #include <vector>
@@ -12,10 +12,6 @@
 #include "shared/geometry/camera_model.h"
 
 namespace silnet::aggregator {
-
-// `camera` as it sees an image of `width` x `height` of the same field of view. Throws
-// InputError if the aspect ratio differs by more than 1 %.
-CameraModel CameraAtImageSize(const CameraModel& camera, int width, int height);
 
 // The index of `camera`'s first frame exposed at or after reference time `t` seconds
 // (conventions.h: frame k is exposed at (k + time_offset) / fps); 0 for times before frame 0.

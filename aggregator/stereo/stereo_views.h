@@ -14,7 +14,8 @@ namespace silnet::aggregator {
 // Where a view's silhouette came from.
 enum class SilhouetteSource {
   kMaskFile,              // <camera>/masks/%06d.png
-  kBackgroundDifference,  // the still against <camera>/background.png (background_difference.h)
+  kBackgroundDifference,  // the still against <camera>/background.png
+                          // (node/segmentation/background_difference.h)
   kThreshold,             // thresholding a dark background (Middlebury)
 };
 

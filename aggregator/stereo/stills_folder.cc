@@ -88,7 +88,7 @@ std::optional<StereoView> LoadView(const fs::path& dir, const CameraModel& camer
     const std::optional<cv::Mat> background =
         ReadImage(files.background, cv::IMREAD_COLOR, size, problem);
     if (!background) return std::nullopt;
-    view.mask = SegmentAgainstBackground(view.image, *background, options.background).mask;
+    view.mask = node::SegmentAgainstBackground(view.image, *background, options.background).mask;
     view.silhouette_source = SilhouetteSource::kBackgroundDifference;
   } else {
     throw InputError(fmt::format(

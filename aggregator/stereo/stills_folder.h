@@ -11,15 +11,15 @@
 // an unreadable or corrupt PNG, an image or mask whose size differs from the calibration's,
 // an empty silhouette. Mask pixels other than 0 and 255 are thresholded at 128 and counted
 // (a warning and StereoView::nonbinary_mask_pixels). A camera without that mask file is
-// segmented against its background.png (background_difference.h); with neither, loading
-// stops with an InputError naming the camera and the files to provide. Fewer than
+// segmented against its background.png (node/segmentation/background_difference.h); with neither,
+// loading stops with an InputError naming the camera and the files to provide. Fewer than
 // `min_views` usable cameras is an InputError listing the warnings.
 
 #include <filesystem>
 #include <string>
 
-#include "aggregator/stereo/background_difference.h"
 #include "aggregator/stereo/stereo_views.h"
+#include "node/segmentation/background_difference.h"
 
 namespace silnet::aggregator {
 
@@ -28,7 +28,7 @@ struct StillsFolderOptions {
   int frame = 0;          // the still taken: stills/%06d.png and masks/%06d.png
   bool undistort = true;  // pinhole views (undistort_view.h); false keeps the distortion
   int min_views = 2;      // fewer usable cameras is an error
-  BackgroundDifferenceOptions background;  // segmentation of cameras without masks
+  node::BackgroundDifferenceOptions background;  // segmentation of cameras without masks
 
   // True if the options make sense; otherwise false with a reason.
   bool IsValid(std::string* reason) const;

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdint>
 #include <opencv2/core/mat.hpp>
+#include <optional>
 #include <string>
 
 #include "shared/util/check.h"
@@ -36,6 +37,13 @@ enum class CaptureStatus {
                  // the node can publish it flagged; see LastError()
   kError,        // the source failed (device gone); it may recover on later reads; see
                  // LastError()
+};
+
+// A photograph from a source's own still stream (full resolution), with the empty scene at
+// that resolution when the source knows it (for the still's silhouette).
+struct StillPhoto {
+  cv::Mat photo;       // CV_8UC3 BGR
+  cv::Mat background;  // CV_8UC3 of the photo's size, or empty
 };
 
 // What the source actually delivers (a device may not grant what was asked).
@@ -76,6 +84,14 @@ class CaptureSource {
   // Reason of the last kError.
   virtual std::string LastError() const = 0;
   virtual CaptureCounters Counters() const = 0;
+  // The still for a request that `frame` satisfies, from the source's own still stream
+  // (libcamera's still-capture stream, a simulated camera's statue); nullopt when the frame
+  // itself is the still. Called from the node's still thread while Read() goes on: it must
+  // not disturb it. Throws CaptureError when the still stream fails.
+  virtual std::optional<StillPhoto> TakeStill(const CapturedFrame& frame) {
+    (void)frame;
+    return std::nullopt;
+  }
 };
 
 }  // namespace silnet::node

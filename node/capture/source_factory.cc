@@ -1,6 +1,7 @@
 #include "node/capture/source_factory.h"
 
 #include <algorithm>
+#include <opencv2/imgcodecs.hpp>
 
 #include "node/capture/files/image_folder_source.h"
 #include "node/capture/files/video_file_source.h"
@@ -16,11 +17,17 @@ namespace {
 
 constexpr const char* kKinds = "v4l2, libcamera, video, images, masks, sim or sim-masks";
 
-// A simulated camera: a dataset camera's images replayed as a live source.
+// A simulated camera: a dataset camera's images replayed as a live source. When the dataset
+// has a statue stills folder (`silnet-sim stills --cameras-from`), its still stream shows the
+// statue at that folder's resolution, with the empty room as the still's background.
 class SimulatedCameraSource : public CaptureSource {
  public:
-  SimulatedCameraSource(std::unique_ptr<ImageFolderSource> images, std::string description)
-      : images_(std::move(images)), description_(std::move(description)) {}
+  SimulatedCameraSource(std::unique_ptr<ImageFolderSource> images, std::string description,
+                        std::filesystem::path still, std::filesystem::path still_background)
+      : images_(std::move(images)),
+        description_(std::move(description)),
+        still_(std::move(still)),
+        still_background_(std::move(still_background)) {}
   void Open() override { images_->Open(); }
   CaptureStatus Read(CapturedFrame* frame, std::chrono::milliseconds timeout) override {
     return images_->Read(frame, timeout);
@@ -31,10 +38,24 @@ class SimulatedCameraSource : public CaptureSource {
   std::string Describe() const override { return description_ + " (" + images_->Describe() + ")"; }
   std::string LastError() const override { return images_->LastError(); }
   CaptureCounters Counters() const override { return images_->Counters(); }
+  std::optional<StillPhoto> TakeStill(const CapturedFrame&) override {
+    if (!std::filesystem::exists(still_)) return std::nullopt;
+    StillPhoto still;
+    still.photo = cv::imread(still_.string(), cv::IMREAD_COLOR);
+    if (still.photo.empty()) throw CaptureError("cannot read the still " + still_.string());
+    if (std::filesystem::exists(still_background_)) {
+      still.background = cv::imread(still_background_.string(), cv::IMREAD_COLOR);
+      if (still.background.size() != still.photo.size())
+        throw CaptureError("the still's background " + still_background_.string() +
+                           " is unreadable or of another size");
+    }
+    return still;
+  }
 
  private:
   std::unique_ptr<ImageFolderSource> images_;
   std::string description_;
+  std::filesystem::path still_, still_background_;
 };
 
 std::unique_ptr<CaptureSource> MakeSimulatedCamera(const std::filesystem::path& camera_dir,
@@ -58,8 +79,10 @@ std::unique_ptr<CaptureSource> MakeSimulatedCamera(const std::filesystem::path& 
   o.real_time = true;
   o.start_ns = options.start_ns;
   o.offset_frames = it->time_offset;
-  return std::make_unique<SimulatedCameraSource>(std::make_unique<ImageFolderSource>(o),
-                                                 "sim:" + camera_dir.string());
+  const std::filesystem::path statue = dataset / "statue" / camera_id;
+  return std::make_unique<SimulatedCameraSource>(
+      std::make_unique<ImageFolderSource>(o), "sim:" + camera_dir.string(),
+      statue / "stills" / DatasetLayout::ImageName(0), statue / "background.png");
 }
 
 }  // namespace

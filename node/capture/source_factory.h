@@ -6,7 +6,8 @@
 //   images:/path/folder      a folder of colour images
 //   masks:/path/folder       a folder of silhouette masks (mask-input segmentation)
 //   sim:/dataset/cam03       a simulated camera replayed live: its colour frames paced at
-//                            its frame rate and time offset (from ground_truth.yaml)
+//                            its frame rate and time offset (from ground_truth.yaml); its
+//                            stills show /dataset/statue/cam03 when that exists
 //   sim-masks:/dataset/cam03 the same camera's exact silhouettes
 
 #include <memory>

@@ -5,6 +5,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "node/segmentation/shadow_texture.h"
 #include "shared/util/check.h"
 
 namespace silnet::node {
@@ -222,15 +223,12 @@ cv::Mat MedianBackgroundModel::Classify(const cv::Mat& frame, bool* warming_up) 
     }
     if (row_first >= 0) shadow_box |= cv::Rect(row_first, y, row_last - row_first + 1, 1);
   }
-  // Pass 2: a shadow keeps the background's texture, so the brightness ratio is locally
-  // constant; on an object it follows the object's own texture.
+  // Pass 2: a shadow keeps the background's texture (shadow_texture.h).
   if (shadow_box.area() > 0) {
     const int margin = 2;
     const cv::Rect box = cv::Rect(shadow_box.x - margin, shadow_box.y - margin,
                                   shadow_box.width + 2 * margin, shadow_box.height + 2 * margin) &
                          cv::Rect(0, 0, frame.cols, frame.rows);
-    // Statistics over the shadow-like pixels of each window only, so that windows across a
-    // shadow's edge are judged by the shadow pixels alone.
     // Brightness ratios of the shadow-like pixels (0 elsewhere: they carry no weight).
     cv::Mat ratio(box.size(), CV_32F, cv::Scalar(0.0f));
     for (int y = 0; y < box.height; ++y) {
@@ -245,26 +243,7 @@ cv::Mat MedianBackgroundModel::Classify(const cv::Mat& frame, bool* warming_up) 
                (b0 * b0 + b1 * b1 + b2 * b2);
       }
     }
-    const cv::Mat candidates = mask(box) == 128;
-    cv::Mat weight, masked_ratio, weighted_sum, weighted_square;
-    candidates.convertTo(weight, CV_32F, 1.0 / 255.0);
-    masked_ratio = ratio;
-    cv::boxFilter(weight, weight, CV_32F, cv::Size(5, 5), cv::Point(-1, -1), false);
-    cv::boxFilter(masked_ratio, weighted_sum, CV_32F, cv::Size(5, 5), cv::Point(-1, -1), false);
-    cv::boxFilter(ratio.mul(ratio), weighted_square, CV_32F, cv::Size(5, 5), cv::Point(-1, -1),
-                  false);
-    const float texture2 = static_cast<float>(options_.shadow_texture * options_.shadow_texture);
-    for (int y = 0; y < box.height; ++y) {
-      uint8_t* out = mask.ptr<uint8_t>(y + box.y) + box.x;
-      const float* w = weight.ptr<float>(y);
-      const float* s1 = weighted_sum.ptr<float>(y);
-      const float* s2 = weighted_square.ptr<float>(y);
-      for (int x = 0; x < box.width; ++x) {
-        if (out[x] != 128) continue;
-        const float mean = s1[x] / w[x];
-        out[x] = s2[x] / w[x] - mean * mean < texture2 ? 0 : 255;
-      }
-    }
+    ResolveShadowCandidates(mask(box), ratio, options_.shadow_texture);
   }
   last_mask_ = mask;
   return mask;

@@ -1,6 +1,9 @@
 #include "shared/geometry/camera_model.h"
 
+#include <fmt/format.h>
+
 #include <Eigen/Geometry>
+#include <cmath>
 
 #include "shared/util/check.h"
 
@@ -85,6 +88,26 @@ Eigen::Matrix3d LookAtRotation(const Eigen::Vector3d& center, const Eigen::Vecto
   r.row(1) = y.transpose();
   r.row(2) = z.transpose();
   return r;
+}
+
+CameraModel CameraAtImageSize(const CameraModel& camera, int width, int height) {
+  if (camera.width <= 0 || camera.height <= 0 || width <= 0 || height <= 0)
+    throw InputError("image sizes must be positive");
+  const double sx = static_cast<double>(width) / camera.width;
+  const double sy = static_cast<double>(height) / camera.height;
+  if (std::abs(sx / sy - 1.0) > 0.01) {
+    throw InputError(fmt::format("{}x{} has another aspect ratio than the calibration's {}x{}",
+                                 width, height, camera.width, camera.height));
+  }
+  CameraModel scaled = camera;
+  scaled.width = width;
+  scaled.height = height;
+  // Pixel centres: x' + 0.5 = s (x + 0.5).
+  scaled.K.row(0) *= sx;
+  scaled.K.row(1) *= sy;
+  scaled.K(0, 2) += 0.5 * (sx - 1.0);
+  scaled.K(1, 2) += 0.5 * (sy - 1.0);
+  return scaled;
 }
 
 }  // namespace silnet

@@ -59,4 +59,9 @@ struct CameraModel {
 Eigen::Matrix3d LookAtRotation(const Eigen::Vector3d& center, const Eigen::Vector3d& target,
                                const Eigen::Vector3d& up);
 
+// `camera` as it sees an image of `width` x `height` with the same field of view (a still
+// taken at another resolution than the video): K scaled about the pixel-centre convention,
+// x' + 0.5 = s (x + 0.5). Throws InputError if the aspect ratio differs by more than 1 %.
+CameraModel CameraAtImageSize(const CameraModel& camera, int width, int height);
+
 }  // namespace silnet

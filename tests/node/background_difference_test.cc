@@ -1,14 +1,15 @@
 // The single-background segmenter of stills without masks.
 
-#include "aggregator/stereo/background_difference.h"
+#include "node/segmentation/background_difference.h"
 
 #include <gtest/gtest.h>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "shared/util/check.h"
 
-namespace silnet::aggregator {
+namespace silnet::node {
 namespace {
 
 // A textured background with mild sensor noise.
@@ -49,10 +50,36 @@ TEST(BackgroundDifferenceTest, FindsTheSubjectAndNotItsShadow) {
   }
 }
 
+// A grey subject in front of a grey wall is darker with the wall's chromaticity, as a shadow
+// would be, but carries its own texture: it is kept whole, while a real shadow beside it (the
+// wall's texture, darkened evenly) is not taken.
+TEST(BackgroundDifferenceTest, KeepsASubjectOfTheWallsColourThatIsNoShadow) {
+  for (int seed = 1; seed <= 3; ++seed) {
+    cv::Mat background(120, 160, CV_8UC3);
+    cv::RNG rng(static_cast<uint64_t>(seed));
+    cv::Mat grey(background.size(), CV_8UC1);
+    rng.fill(grey, cv::RNG::UNIFORM, 150, 190);
+    cv::cvtColor(grey, background, cv::COLOR_GRAY2BGR);
+    cv::Mat still = background.clone();
+    const cv::Rect subject(20, 20, 50, 70), shadow(100, 60, 40, 40);
+    for (int y = subject.y; y < subject.br().y; ++y) {
+      for (int x = subject.x; x < subject.br().x; ++x) {
+        const double ratio = rng.uniform(0.45, 0.85);  // its own blotchy texture
+        still.at<cv::Vec3b>(y, x) = background.at<cv::Vec3b>(y, x) * ratio;
+      }
+    }
+    still(shadow).convertTo(still(shadow), CV_8UC3, 0.6);
+    const BackgroundDifference result =
+        SegmentAgainstBackground(WithNoise(still, 200 + seed), background);
+    EXPECT_GT(cv::countNonZero(result.mask(subject)), 0.97 * subject.area()) << "seed " << seed;
+    EXPECT_EQ(cv::countNonZero(result.mask(shadow)), 0) << "seed " << seed;
+  }
+}
+
 TEST(BackgroundDifferenceTest, RejectsImagesOfDifferentSizes) {
   EXPECT_THROW(SegmentAgainstBackground(Background(1), Background(1)(cv::Rect(0, 0, 20, 20))),
                InputError);
 }
 
 }  // namespace
-}  // namespace silnet::aggregator
+}  // namespace silnet::node

@@ -1,14 +1,9 @@
-#include "aggregator/stereo/background_difference.h"
+#include "node/segmentation/background_difference.h"
 
+#include "node/segmentation/shadow_texture.h"
 #include "shared/util/check.h"
 
-namespace silnet::aggregator {
-
-node::SegmentationOptions BackgroundDifferenceOptions::DefaultNodeOptions() {
-  node::SegmentationOptions options;
-  options.min_difference = 25.0;
-  return options;
-}
+namespace silnet::node {
 
 BackgroundDifference SegmentAgainstBackground(const cv::Mat& still, const cv::Mat& background,
                                               const BackgroundDifferenceOptions& options) {
@@ -24,6 +19,8 @@ BackgroundDifference SegmentAgainstBackground(const cv::Mat& still, const cv::Ma
   const float chroma2 = static_cast<float>(o.shadow_chroma * o.shadow_chroma);
   BackgroundDifference result;
   result.mask = cv::Mat(still.size(), CV_8UC1, cv::Scalar(0));
+  cv::Mat ratio(still.size(), CV_32F, cv::Scalar(0.0f));  // of the shadow candidates
+  bool candidates = false;
   for (int y = 0; y < still.rows; ++y) {
     const uint8_t* in = still.ptr<uint8_t>(y);
     const uint8_t* bg = background.ptr<uint8_t>(y);
@@ -35,15 +32,20 @@ BackgroundDifference SegmentAgainstBackground(const cv::Mat& still, const cv::Ma
       if (d0 * d0 + d1 * d1 + d2 * d2 <= min2) continue;
       const float bb = b0 * b0 + b1 * b1 + b2 * b2;
       const float alpha = bb > 1.0f ? (i0 * b0 + i1 * b1 + i2 * b2) / bb : 1.0f;
+      out[x] = 255;
       if (o.suppress_shadows && alpha >= o.shadow_min_ratio && alpha <= o.shadow_max_ratio) {
         const float c0 = i0 - alpha * b0, c1 = i1 - alpha * b1, c2 = i2 - alpha * b2;
-        if (c0 * c0 + c1 * c1 + c2 * c2 < chroma2 * alpha * alpha * bb) continue;
+        if (c0 * c0 + c1 * c1 + c2 * c2 < chroma2 * alpha * alpha * bb) {
+          out[x] = 128;
+          ratio.at<float>(y, x) = alpha;
+          candidates = true;
+        }
       }
-      out[x] = 255;
     }
   }
+  if (candidates) ResolveShadowCandidates(result.mask, ratio, o.shadow_texture);
   result.cleanup = node::CleanMask(&result.mask, o);
   return result;
 }
 
-}  // namespace silnet::aggregator
+}  // namespace silnet::node
