@@ -97,9 +97,10 @@ struct CameraNode::State {
   BoundedQueue<StillJob> still_queue{64};
   std::mutex info_mutex;
   CameraInfoRecord info;
-  std::mutex latest_mutex;
-  cv::Mat latest_image;
-  int64_t latest_time_ns = 0;
+  std::mutex latest_mutex;  // the newest processed frame with its silhouette, for stills
+  CapturedFrame latest_frame;
+  cv::Mat latest_mask;
+  uint32_t latest_flags = 0;
   std::mutex error_mutex;
   std::string last_error;
 
@@ -133,7 +134,9 @@ struct CameraNode::State {
   StillPicture PictureOf(const StillJob& job);
   void SendStill(const StillJob& job);
   void ResendStill(const StillJob& job);
-  void TakeStillsDue(const CapturedFrame& frame, const ProcessedFrame& result);
+  void QueueStills(const std::vector<uint64_t>& ids, const CapturedFrame& frame,
+                   const cv::Mat& silhouette, uint32_t flags);
+  void AnswerStillsAfterTheEnd();
   void Emit(ProcessedFrame frame);
   void EmitDropped(uint64_t from, uint64_t to, int64_t last_time_ns, double period_ns);
   void Record(SessionRecordType type, const std::vector<uint8_t>& payload);
@@ -227,13 +230,16 @@ void CameraNode::State::ProcessingLoop() {
                                : processor->Process(job->frame);
     }
     if (!job->frame.image.empty()) {
-      {
+      if (!result.mask.empty()) {
         std::lock_guard lock(latest_mutex);
-        latest_image = job->frame.image;
-        latest_time_ns = job->frame.capture_time_ns;
+        latest_frame = job->frame;
+        latest_mask = result.mask;
+        latest_flags = result.hull.flags;
       }
       ++processed;
-      TakeStillsDue(job->frame, result);
+      if (still_requests.waiting() > 0 && !result.mask.empty()) {
+        QueueStills(still_requests.TakeDue(index), job->frame, result.mask, result.hull.flags);
+      }
     }
     last_time_ns = job->frame.capture_time_ns;
     next_index = index + 1;
@@ -469,17 +475,16 @@ void CameraNode::State::ResendFromRecording(const silnet_wire_Command& command) 
                command.command_id, queued, command.session, command.from_frame);
 }
 
-// Hands the stills that frame `frame` satisfies to the still thread, with the frame's flags
-// (a silhouette of a warming-up background model is sent, and reported as such). A frame
-// without a silhouette (unusable input) satisfies none: the request waits for the next one.
-void CameraNode::State::TakeStillsDue(const CapturedFrame& frame, const ProcessedFrame& result) {
-  const cv::Mat& silhouette = result.mask;
-  if (still_requests.waiting() == 0 || silhouette.empty()) return;
-  for (uint64_t id : still_requests.TakeDue(frame.frame_index)) {
+// Hands stills `ids` of frame `frame` to the still thread, with the silhouette's flags (a
+// silhouette of a warming-up background model is sent, and reported as such). Frames without
+// a silhouette (unusable input) satisfy no request: it waits for the next frame.
+void CameraNode::State::QueueStills(const std::vector<uint64_t>& ids, const CapturedFrame& frame,
+                                    const cv::Mat& silhouette, uint32_t flags) {
+  for (uint64_t id : ids) {
     StillJob job;
     job.still_id = id;
     job.frame_index = frame.frame_index;
-    job.frame_flags = result.hull.flags;
+    job.frame_flags = flags;
     job.capture_time_ns = frame.capture_time_ns;
     job.photo = frame.image;
     job.silhouette = silhouette.clone();
@@ -508,6 +513,20 @@ StillPicture CameraNode::State::PictureOf(const StillJob& job) {
   cv::Mat mask = SegmentAgainstBackground(own->photo, own->background).mask;
   const uint32_t flags = cv::countNonZero(mask) == 0 ? silnet_wire_FRAME_EMPTY : 0u;
   return {own->photo, std::move(mask), flags};
+}
+
+// A finite source has ended (the node lingers): requests that the last frame satisfies (asked
+// for it or earlier, or for "the next frame") are answered with it; later ones cannot be.
+void CameraNode::State::AnswerStillsAfterTheEnd() {
+  std::lock_guard lock(latest_mutex);
+  if (!latest_mask.empty()) {
+    QueueStills(still_requests.TakeDue(latest_frame.frame_index), latest_frame, latest_mask,
+                latest_flags);
+  }
+  for (uint64_t id : still_requests.TakeDue(UINT64_MAX)) {
+    SetError(fmt::format("still {}: the source ended before its frame", id));
+    spdlog::warn("still {}: the source ended before its frame; not taken", id);
+  }
 }
 
 void CameraNode::State::SendStill(const StillJob& job) {
@@ -575,10 +594,7 @@ void CameraNode::State::ControlLoop() {
       HandleCommand(command);
     }
     if (source_ended && processing_done && still_requests.waiting() > 0) {
-      for (uint64_t id : still_requests.TakeDue(UINT64_MAX)) {
-        SetError(fmt::format("still {}: the source ended before its frame", id));
-        spdlog::warn("still {}: the source ended before its frame; not taken", id);
-      }
+      AnswerStillsAfterTheEnd();
     }
     const auto now = Clock::now();
     if (now < next_status) continue;

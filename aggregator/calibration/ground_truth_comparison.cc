@@ -13,26 +13,62 @@ double Max(const std::vector<double>& values) {
   return values.empty() ? 0.0 : *std::max_element(values.begin(), values.end());
 }
 
-}  // namespace
+using CameraPairs = std::vector<std::pair<const CameraModel*, const CameraModel*>>;
 
-CalibrationErrors CompareWithGroundTruth(const std::vector<CameraModel>& estimated,
-                                         const std::vector<bool>& placed,
-                                         const std::vector<CameraModel>& truth) {
-  std::vector<std::pair<const CameraModel*, const CameraModel*>> matched;
+// The cameras of `estimated` (those `placed`; all if it is null) with their namesakes in
+// `truth`; at least 3, else InputError.
+CameraPairs MatchCameras(const std::vector<CameraModel>& estimated, const std::vector<bool>* placed,
+                         const std::vector<CameraModel>& truth) {
+  CameraPairs matched;
   for (size_t c = 0; c < estimated.size(); ++c) {
-    if (c >= placed.size() || !placed[c]) continue;
+    if (placed != nullptr && (c >= placed->size() || !(*placed)[c])) continue;
     const auto t = std::find_if(truth.begin(), truth.end(),
                                 [&](const CameraModel& m) { return m.id == estimated[c].id; });
     if (t != truth.end()) matched.emplace_back(&estimated[c], &*t);
   }
   if (matched.size() < 3)
     throw InputError("comparing with ground truth needs at least 3 calibrated cameras it knows");
+  return matched;
+}
+
+// The centres of the matched cameras, estimated (src) and true (dst).
+std::pair<Eigen::Matrix3Xd, Eigen::Matrix3Xd> Centres(const CameraPairs& matched) {
   const auto n = static_cast<Eigen::Index>(matched.size());
   Eigen::Matrix3Xd src(3, n), dst(3, n);
   for (Eigen::Index k = 0; k < n; ++k) {
     src.col(k) = matched[static_cast<size_t>(k)].first->Center();
     dst.col(k) = matched[static_cast<size_t>(k)].second->Center();
   }
+  return {src, dst};
+}
+
+}  // namespace
+
+std::vector<CameraModel> AlignedToGroundTruth(const std::vector<CameraModel>& estimated,
+                                              const std::vector<CameraModel>& truth) {
+  const auto [src, dst] = Centres(MatchCameras(estimated, nullptr, truth));
+  const Eigen::Matrix4d similarity = Eigen::umeyama(src, dst, true);
+  const Eigen::Matrix3d sq = similarity.topLeftCorner<3, 3>();
+  const double scale = std::cbrt(sq.determinant());
+  const Eigen::Matrix3d q = sq / scale;
+  const Eigen::Vector3d shift = similarity.topRightCorner<3, 1>();
+  // X_true = scale q X + shift; x_cam = R X + t becomes, scaled by `scale`,
+  // x_cam = R q^T X_true + scale t - R q^T shift.
+  std::vector<CameraModel> aligned = estimated;
+  for (CameraModel& c : aligned) {
+    const Eigen::Matrix3d rotation = c.R * q.transpose();
+    c.t = scale * c.t - rotation * shift;
+    c.R = rotation;
+  }
+  return aligned;
+}
+
+CalibrationErrors CompareWithGroundTruth(const std::vector<CameraModel>& estimated,
+                                         const std::vector<bool>& placed,
+                                         const std::vector<CameraModel>& truth) {
+  const CameraPairs matched = MatchCameras(estimated, &placed, truth);
+  const auto n = static_cast<Eigen::Index>(matched.size());
+  const auto [src, dst] = Centres(matched);
   const Eigen::Matrix4d similarity = Eigen::umeyama(src, dst, true);
   const Eigen::Matrix3d sq = similarity.topLeftCorner<3, 3>();
   const double scale = std::cbrt(sq.determinant());

@@ -39,4 +39,11 @@ CalibrationErrors CompareWithGroundTruth(const std::vector<CameraModel>& estimat
                                          const std::vector<bool>& placed,
                                          const std::vector<CameraModel>& truth);
 
+// The cameras of `estimated` moved into the frame and scale of `truth` by the similarity
+// that best aligns the centres of the cameras both have (the one CompareWithGroundTruth
+// uses): what a reconstruction made with `estimated` needs to be scored against a true
+// surface. Needs at least 3 common cameras; throws InputError otherwise.
+std::vector<CameraModel> AlignedToGroundTruth(const std::vector<CameraModel>& estimated,
+                                              const std::vector<CameraModel>& truth);
+
 }  // namespace silnet::aggregator

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "aggregator/calibration/ground_truth_comparison.h"
 #include "aggregator/cli/cli_support.h"
 #include "aggregator/cli/commands.h"
 #include "aggregator/ingest/still_collector.h"
@@ -25,6 +26,26 @@ struct StillsArgs {
   int domain = -1;
   bool loopback = false;
 };
+
+// Simulation only: brings the views' cameras into the frame of the true stills folder `truth`
+// (its calibration.yaml) and copies its gt_surface.ply beside the stills, so the stereo job
+// scores the model against the true surface; says how far the calibration in use is off.
+void ScoreAgainstTruth(const std::filesystem::path& truth, const std::filesystem::path& out,
+                       StereoViews* views) {
+  const std::vector<CameraModel> true_cameras = LoadCalibration(truth / "calibration.yaml");
+  const std::vector<CameraModel> used = views->Cameras();
+  const CalibrationErrors errors =
+      CompareWithGroundTruth(used, std::vector<bool>(used.size(), true), true_cameras);
+  std::printf(
+      "  the calibration in use against the truth: rotation %.3f deg median (%.3f max), "
+      "focal length %.2f %% median\n",
+      errors.median_rotation_deg, errors.max_rotation_deg, 100.0 * errors.median_focal_rel);
+  const std::vector<CameraModel> aligned = AlignedToGroundTruth(used, true_cameras);
+  for (size_t i = 0; i < aligned.size(); ++i)
+    views->views[i].camera = aligned[i];
+  std::filesystem::copy_file(truth / "gt_surface.ply", out / "gt_surface.ply",
+                             std::filesystem::copy_options::overwrite_existing);
+}
 
 int RunStills(const StillsArgs& args) {
   const std::vector<CameraModel> cameras = LoadCalibration(args.calibration);
@@ -47,7 +68,7 @@ int RunStills(const StillsArgs& args) {
   const std::filesystem::path out = args.out;
   std::filesystem::create_directories(out);
   WriteStillSummary(out / "stills.yaml", collection);
-  const StereoViews views = StillViews(collection, cameras);
+  StereoViews views = StillViews(collection, cameras);
   for (const std::string& warning : views.warnings)
     std::printf("  %s\n", warning.c_str());
   std::printf("stills: %zu of %zu cameras answered with a complete still in %.1f s -> %s\n",
@@ -56,11 +77,8 @@ int RunStills(const StillsArgs& args) {
     std::printf("stills: too few stills for a model\n");
     return 3;
   }
+  if (!args.truth.empty()) ScoreAgainstTruth(args.truth, out, &views);
   WriteStillsFolder(out, views);
-  if (!args.truth.empty()) {
-    std::filesystem::copy_file(args.truth, out / "gt_surface.ply",
-                               std::filesystem::copy_options::overwrite_existing);
-  }
   if (!args.stereo) return 0;
   StereoJobConfig config;
   config.input = out;
@@ -95,9 +113,10 @@ Command AddStillsCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--stereo", args->stereo, "then build the stereo model into <out>/stereo");
   cmd->add_option("--truth", args->truth,
-                  "the subject's true surface (gt_surface.ply of simulated stills): copied "
-                  "beside the stills, so the stereo model is scored against it")
-      ->check(CLI::ExistingFile);
+                  "simulation only: the true stills folder of the subject (silnet-sim stills "
+                  "--cameras-from: calibration.yaml, gt_surface.ply); the cameras are aligned "
+                  "to it and the model scored against its surface")
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--domain", args->domain, "DDS domain id (default: SILNET_DDS_DOMAIN or 0)");
   cmd->add_flag("--loopback", args->loopback, "DDS on 127.0.0.1 only");
   return {cmd, [args] { return RunStills(*args); }};

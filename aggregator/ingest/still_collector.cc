@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <thread>
@@ -26,9 +27,11 @@ struct CameraTrack {
   CollectedStill result;
   uint64_t from_frame = 0;
   std::optional<StillAssembly> assembly;
-  bool seen = false;  // its node's CameraInfo arrived
-  Clock::time_point last_news{};
-  Clock::time_point last_ask{};
+  bool seen = false;              // its node's CameraInfo arrived
+  Clock::time_point seen_at{};    // when its newest CameraInfo arrived
+  Clock::time_point asked_at{};   // when the capture was last asked for
+  Clock::time_point last_news{};  // the newest chunk (or the first request)
+  Clock::time_point last_ask{};   // the newest request of any kind
 };
 
 class Collector {
@@ -102,7 +105,9 @@ class Collector {
   void TakeInfos() {
     info_reader_.Take([&](const silnet_wire_CameraInfo& info, const dds_sample_info_t&) {
       const auto it = index_.find(dds::ReadBoundedString(info.camera_id));
-      if (it != index_.end()) tracks_[it->second].seen = true;
+      if (it == index_.end()) return;
+      tracks_[it->second].seen = true;
+      tracks_[it->second].seen_at = Clock::now();
     });
   }
 
@@ -127,7 +132,7 @@ class Collector {
     command.from_frame = t.from_frame;
     Send(command, t.result.camera_id);
     ++t.result.requests;
-    t.last_ask = Clock::now();
+    t.last_ask = t.asked_at = Clock::now();
     if (t.last_news == Clock::time_point{}) t.last_news = t.last_ask;
   }
 
@@ -172,8 +177,11 @@ class Collector {
         tracks_.begin(), tracks_.end(), [](const CameraTrack& t) { return t.result.complete; }));
   }
 
-  // Cameras silent for a while: missing chunks are asked for again; a camera that has sent
-  // nothing is asked for its still again (its node may have appeared late).
+  // Cameras silent for a while: missing chunks are asked for again (a part of which nothing
+  // arrived, whole). A camera that has sent nothing is asked for its still again only when
+  // its node announced itself after the last request (it appeared late or restarted): a node
+  // that has the request may be waiting for the frame asked for, and the reliable command
+  // needs no repeating.
   void AskAgain() {
     const auto now = Clock::now();
     for (CameraTrack& t : tracks_) {
@@ -181,11 +189,18 @@ class Collector {
           now - t.last_ask < options_.ask_again_after) {
         continue;
       }
-      bool asked = false;
+      const bool any = t.assembly->part(silnet_wire_STILL_PHOTO).started() ||
+                       t.assembly->part(silnet_wire_STILL_SILHOUETTE).started();
+      if (!any) {
+        if (t.seen && t.seen_at > t.asked_at) AskForStill(t);
+        continue;
+      }
       for (silnet_wire_StillPart part : {silnet_wire_STILL_PHOTO, silnet_wire_STILL_SILHOUETTE}) {
         const StillPartAssembly& assembly = t.assembly->part(part);
-        if (!assembly.started()) continue;
-        for (const auto& [first, last] : assembly.Missing()) {
+        const std::vector<std::pair<uint32_t, uint32_t>> missing =
+            assembly.started() ? assembly.Missing()
+                               : std::vector<std::pair<uint32_t, uint32_t>>{{0, UINT32_MAX}};
+        for (const auto& [first, last] : missing) {
           silnet_wire_Command command{};
           command.kind = silnet_wire_COMMAND_RESEND_STILL;
           command.still_part = part;
@@ -193,13 +208,10 @@ class Collector {
           command.to_frame = last;
           Send(command, t.result.camera_id);
           ++t.result.resend_requests;
-          asked = true;
           spdlog::info("still {}: asking again for {} chunks {}..{}", t.result.camera_id,
                        PartName(part), first, last);
         }
       }
-      // Nothing at all yet, or only one part: the request (or a whole part) is asked again.
-      if (!asked) AskForStill(t);
       t.last_ask = now;
     }
   }

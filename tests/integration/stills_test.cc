@@ -7,7 +7,9 @@
 // as the stereo job's input.
 
 #include <gtest/gtest.h>
+#include <signal.h>
 
+#include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -141,6 +143,81 @@ TEST(StillsOnCommand, EveryNodeSendsTheStillOfTheInstantWholeAndAMissingNodeIsRe
   EXPECT_TRUE(views.warnings.empty());
   for (auto& node : nodes)
     EXPECT_TRUE(node->Wait(seconds(60)).has_value());
+}
+
+// The user's story on the simulator: the nodes' still streams show a statue at 1.5 times the
+// video resolution; `stills --stereo` collects every photo with the node's silhouette of it
+// (segmented against the empty room), builds the model with the calibration in use (here the
+// true cameras moved into another frame and scale, as a self-calibration would give them) and
+// scores it against the statue's true surface after aligning that calibration to the truth.
+TEST(StillsOnCommand, TheModelFromTheNodesStillsIsScoredAgainstTheStatuesTrueSurface) {
+  testing::TempDir work("silnet-stills-statue");
+  const std::filesystem::path data = work / "data";
+  testing::ChildProcess sim(kBin / "sim/silnet-sim",
+                            {"generate", "-o", data.string(), "--cameras", std::to_string(kCameras),
+                             "--frames", "240", "--seed", "22", "--frames-only"},
+                            work.path());
+  ASSERT_EQ(sim.Wait(seconds(600)), std::optional<int>(0)) << sim.Stderr();
+  testing::ChildProcess statue(kBin / "sim/silnet-sim",
+                               {"stills", "-o", (data / "statue").string(), "--cameras-from",
+                                data.string(), "--scale", "1.5", "--backgrounds", "--seed", "22"},
+                               work.path());
+  ASSERT_EQ(statue.Wait(seconds(300)), std::optional<int>(0)) << statue.Stderr();
+  // The calibration in use: the truth in another frame (rotated, shifted, half the scale).
+  std::vector<CameraModel> cameras = LoadCalibration(data / "ground_truth.yaml");
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, -0.2, 1).normalized()).toRotationMatrix();
+  const Eigen::Vector3d shift(1.5, -2.0, 0.3);
+  for (CameraModel& c : cameras) {
+    // X' = 0.5 turn X + shift: x_cam = R turn^T (X' - shift) / 0.5, scaled by 0.5.
+    c.t = 0.5 * c.t - c.R * turn.transpose() * shift;
+    c.R = c.R * turn.transpose();
+  }
+  SaveCalibration(work / "calibration.yaml", cameras);
+
+  std::vector<std::unique_ptr<testing::ChildProcess>> nodes;
+  for (int i = 0; i < kCameras; ++i) {
+    nodes.push_back(std::make_unique<testing::ChildProcess>(
+        kBin / "node/silnet-node",
+        std::vector<std::string>{"--camera-id", CameraName(i), "--source",
+                                 "sim:" + (data / CameraName(i)).string(), "--lossless", "--linger",
+                                 "60"},
+        work.path()));
+  }
+  const std::filesystem::path out = work / "stills";
+  testing::ChildProcess aggregator(
+      kBin / "aggregator/silnet-aggregator",
+      {"stills", out.string(), "--calib", (work / "calibration.yaml").string(), "--timeout", "60",
+       "--discovery", "20", "--stereo", "--truth", (data / "statue").string()},
+      work.path());
+  ASSERT_EQ(aggregator.Wait(seconds(600)), std::optional<int>(0))
+      << aggregator.Stdout() << aggregator.Stderr();
+  const std::string said = aggregator.Stdout();
+  EXPECT_NE(said.find("8 of 8 cameras answered"), std::string::npos) << said;
+  EXPECT_NE(said.find("rotation 0.000 deg median"), std::string::npos) << said;
+  for (auto& node : nodes)
+    node->Kill(SIGTERM);
+
+  cv::FileStorage summary((out / "stereo/stereo.yaml").string(), cv::FileStorage::READ);
+  ASSERT_TRUE(summary.isOpened());
+  EXPECT_EQ(static_cast<int>(summary["views"]), kCameras);
+  const cv::FileNode model = summary["model"], hull = summary["hull"];
+  EXPECT_EQ(static_cast<int>(model["closed_manifold"]), 1);
+  const double accuracy = model["evaluation"]["accuracy_footprints"];
+  const double within2 = model["evaluation"]["completeness"][1]["fraction"];
+  const double hull_accuracy = hull["evaluation"]["accuracy_footprints"];
+  const double hull_within2 = hull["evaluation"]["completeness"][1]["fraction"];
+  std::printf(
+      "statue from the nodes' stills: accuracy %.2f fp (hull %.2f), %.1f %% within 2 fp "
+      "(hull %.1f %%)\n",
+      accuracy, hull_accuracy, 100.0 * within2, 100.0 * hull_within2);
+  // Measured 5.99 fp and 83.2 % (hull 9.49 fp, 76.9 %). With the exact silhouettes the same
+  // cameras give 1.44 fp and 98.0 %: the gap is the single-image segmentation of a grey statue
+  // in front of a grey wall (IoU 0.93-0.99), not the transport or the calibration's alignment.
+  EXPECT_LT(accuracy, 8.0);
+  EXPECT_LT(accuracy, 0.8 * hull_accuracy);
+  EXPECT_GT(within2, 0.8);
+  EXPECT_GT(within2, hull_within2);
 }
 
 }  // namespace
