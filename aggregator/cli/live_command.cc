@@ -22,6 +22,9 @@ struct LiveArgs {
   int motion_window = 60, reestimate_frames = 240;
   double idle_exit_s = 5.0, give_up_s = 60.0, rig_radius = 1.0;
   bool no_publish = false, voxels = false, overlays = false, serve = false, continuous = false;
+  bool stills = false;
+  std::string stills_truth;
+  double stills_timeout_s = 30.0;
   PairwiseArgs pairwise;
 };
 
@@ -49,6 +52,9 @@ int RunLive(const LiveArgs& args) {
   options.motion.moved.pair = options.calibrate.pairwise.pair;
   options.hulls.polyhedral = !args.voxels;
   options.hulls.overlays = args.overlays;
+  options.stills = args.stills;
+  options.stills_truth = args.stills_truth;
+  options.stills_timeout_s = args.stills_timeout_s;
   if (!args.ground_truth.empty() && !std::filesystem::is_regular_file(args.ground_truth))
     throw InputError("--ground-truth " + args.ground_truth + " is not a file");
   const LivePidFile pid_file(options.output);
@@ -104,6 +110,16 @@ Command AddLiveCommand(CLI::App& app) {
   cmd->add_flag("--voxels", args->voxels,
                 "carve voxel hulls instead of the exact polyhedral ones (their fallback)");
   cmd->add_flag("--overlays", args->overlays, "hull reprojection overlays per view");
+  cmd->add_flag("--stills", args->stills,
+                "once the streams end, ask the nodes for stills and build the stereo model "
+                "(OUT/stills, in the report)");
+  cmd->add_option("--stills-timeout", args->stills_timeout_s, "seconds to wait for the stills")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--stills-truth", args->stills_truth,
+                  "simulation: the true stills folder of the subject (silnet-sim stills "
+                  "--cameras-from) to align the calibration to and score the model against")
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--idle-exit", args->idle_exit_s,
                   "once hulls are built, exit after this many seconds without samples")
       ->capture_default_str();

@@ -5,13 +5,10 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "aggregator/calibration/ground_truth_comparison.h"
 #include "aggregator/cli/cli_support.h"
 #include "aggregator/cli/commands.h"
-#include "aggregator/ingest/still_collector.h"
 #include "aggregator/ingest/still_views.h"
-#include "aggregator/stereo/stereo_job.h"
-#include "aggregator/stereo/stills_folder.h"
+#include "aggregator/stereo/stills_stage.h"
 #include "shared/io/calibration_yaml.h"
 #include "shared/util/check.h"
 
@@ -27,67 +24,43 @@ struct StillsArgs {
   bool loopback = false;
 };
 
-// Simulation only: brings the views' cameras into the frame of the true stills folder `truth`
-// (its calibration.yaml) and copies its gt_surface.ply beside the stills, so the stereo job
-// scores the model against the true surface; says how far the calibration in use is off.
-void ScoreAgainstTruth(const std::filesystem::path& truth, const std::filesystem::path& out,
-                       StereoViews* views) {
-  const std::vector<CameraModel> true_cameras = LoadCalibration(truth / "calibration.yaml");
-  const std::vector<CameraModel> used = views->Cameras();
-  const CalibrationErrors errors =
-      CompareWithGroundTruth(used, std::vector<bool>(used.size(), true), true_cameras);
-  std::printf(
-      "  the calibration in use against the truth: rotation %.3f deg median (%.3f max), "
-      "focal length %.2f %% median\n",
-      errors.median_rotation_deg, errors.max_rotation_deg, 100.0 * errors.median_focal_rel);
-  const std::vector<CameraModel> aligned = AlignedToGroundTruth(used, true_cameras);
-  for (size_t i = 0; i < aligned.size(); ++i)
-    views->views[i].camera = aligned[i];
-  std::filesystem::copy_file(truth / "gt_surface.ply", out / "gt_surface.ply",
-                             std::filesystem::copy_options::overwrite_existing);
-}
-
 int RunStills(const StillsArgs& args) {
-  const std::vector<CameraModel> cameras = LoadCalibration(args.calibration);
-  StillCollectorOptions options;
-  options.domain = dds::DomainConfig::FromEnvironment();
-  if (args.domain >= 0) options.domain.domain_id = static_cast<uint32_t>(args.domain);
-  if (args.loopback) options.domain.loopback = true;
-  options.timeout = std::chrono::milliseconds(static_cast<int64_t>(args.timeout_s * 1000));
-  options.discovery = std::chrono::milliseconds(static_cast<int64_t>(args.discovery_s * 1000));
-  for (const CameraModel& camera : cameras) {
-    options.targets.push_back(
+  StillsStageConfig config;
+  config.cameras = LoadCalibration(args.calibration);
+  config.output = args.out;
+  config.stereo = args.stereo;
+  config.truth = args.truth;
+  StillCollectorOptions& collect = config.collect;
+  collect.domain = dds::DomainConfig::FromEnvironment();
+  if (args.domain >= 0) collect.domain.domain_id = static_cast<uint32_t>(args.domain);
+  if (args.loopback) collect.domain.loopback = true;
+  collect.timeout = std::chrono::milliseconds(static_cast<int64_t>(args.timeout_s * 1000));
+  collect.discovery = std::chrono::milliseconds(static_cast<int64_t>(args.discovery_s * 1000));
+  for (const CameraModel& camera : config.cameras) {
+    collect.targets.push_back(
         StillTarget{camera.id, args.at_s >= 0 ? FirstFrameAtOrAfter(camera, args.at_s) : 0});
   }
-  const auto run = RunWithProgress("stills", [&](Progress* progress) {
-    progress->Restart("stills", options.targets.size());
-    return CollectStills(options, progress);
-  });
+  const auto run = RunWithProgress(
+      "stills", [&](Progress* progress) { return RunStillsStage(config, progress); });
   if (!run) return 130;
-  const StillCollection& collection = *run;
-  const std::filesystem::path out = args.out;
-  std::filesystem::create_directories(out);
-  WriteStillSummary(out / "stills.yaml", collection);
-  StereoViews views = StillViews(collection, cameras);
-  for (const std::string& warning : views.warnings)
+  const StillsStageResult& result = *run;
+  for (const std::string& warning : result.warnings)
     std::printf("  %s\n", warning.c_str());
   std::printf("stills: %zu of %zu cameras answered with a complete still in %.1f s -> %s\n",
-              views.views.size(), cameras.size(), collection.seconds, out.string().c_str());
-  if (views.views.size() < 2) {
-    std::printf("stills: too few stills for a model\n");
+              result.views, config.cameras.size(), result.collection.seconds, args.out.c_str());
+  if (result.calibration_vs_truth) {
+    const CalibrationErrors& e = *result.calibration_vs_truth;
+    std::printf(
+        "  the calibration in use against the truth: rotation %.3f deg median (%.3f max), "
+        "focal length %.2f %% median\n",
+        e.median_rotation_deg, e.max_rotation_deg, 100.0 * e.median_focal_rel);
+  }
+  if (result.stereo) return PrintStereoResult(*result.stereo, (config.output / "stereo").string());
+  if (!result.failure.empty()) {
+    std::printf("stills: %s\n", result.failure.c_str());
     return 3;
   }
-  if (!args.truth.empty()) ScoreAgainstTruth(args.truth, out, &views);
-  WriteStillsFolder(out, views);
-  if (!args.stereo) return 0;
-  StereoJobConfig config;
-  config.input = out;
-  config.calibration = out / "calibration.yaml";
-  config.output = out / "stereo";
-  const auto model =
-      RunWithProgress("stereo", [&](Progress* progress) { return RunStereoJob(config, progress); });
-  if (!model) return 130;
-  return PrintStereoResult(*model, config.output.string());
+  return 0;
 }
 
 }  // namespace

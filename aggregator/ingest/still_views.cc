@@ -58,7 +58,7 @@ StereoViews StillViews(const StillCollection& collection, const std::vector<Came
     }
     view.image = still.photo;
     view.mask = still.silhouette;
-    view.silhouette_source = SilhouetteSource::kMaskFile;
+    view.silhouette_source = MaskOrigin::kMaskFile;
     views.views.push_back(std::move(view));
   }
   return views;

@@ -90,10 +90,18 @@ class LiveJob {
                  (options_.output / "session").string(), options_.domain.Describe(),
                  calibration_frames_);
     auto last_activity = Clock::now();
+    uint64_t last_received = 0;
     auto stage_entered = Clock::now();
     auto next_status = Clock::now() + std::chrono::seconds(5);
     while (!stop_()) {
-      if (ingest_.Poll(std::chrono::milliseconds(100)) > 0) last_activity = Clock::now();
+      // Activity is frames arriving: nodes that linger after their feeds still send their
+      // status every second, and the streams have ended all the same.
+      ingest_.Poll(std::chrono::milliseconds(100));
+      const uint64_t received = ingest_.Totals().received;
+      if (received != last_received) {
+        last_received = received;
+        last_activity = Clock::now();
+      }
       const std::vector<CameraIngestStatus> cameras = ingest_.Status();
       const double idle = SecondsSince(last_activity);
       if (Clock::now() >= next_status) {
@@ -133,6 +141,7 @@ class LiveJob {
       result_.failure = fmt::format("stopped while {}", ToString(stage_));
     ingest_.Flush();
     ingest_.WriteSummary(options_.output / "session" / "ingest_summary.yaml");
+    if (options_.stills && !stop_()) TakeStills();
     result_.cameras = ingest_.Status();
     result_.ingest = ingest_.Totals();
     result_.seconds = SecondsSince(start);
@@ -367,6 +376,33 @@ class LiveJob {
     hull_next_ = result_.hull_first_frame;
     hull_count_ = options_.hull_frames;
     stage_ = hull_count_ > 0 ? Stage::kWaitingForHullFrames : Stage::kDone;
+  }
+
+  // Asks the nodes for stills and builds the stereo model with the calibration in use.
+  void TakeStills() {
+    if (hull_cameras_.empty()) {
+      spdlog::warn("live: no calibration, so no stills");
+      return;
+    }
+    StillsStageConfig config;
+    config.cameras = hull_cameras_;
+    config.output = options_.output / "stills";
+    config.truth = options_.stills_truth;
+    config.collect.domain = options_.domain;
+    config.collect.timeout =
+        std::chrono::milliseconds(static_cast<int64_t>(options_.stills_timeout_s * 1000));
+    spdlog::info("live: asking the {} calibrated cameras for stills", hull_cameras_.size());
+    Progress progress("stills", 0, ConsoleProgressPrinter(), std::chrono::seconds(5));
+    try {
+      result_.stills = RunStillsStage(config, &progress);
+    } catch (const std::exception& e) {
+      if (result_.failure.empty()) result_.failure = fmt::format("stills failed: {}", e.what());
+      return;
+    }
+    for (const std::string& warning : result_.stills->warnings)
+      spdlog::warn("live: {}", warning);
+    if (!result_.stills->failure.empty() && result_.failure.empty())
+      result_.failure = "stills: " + result_.stills->failure;
   }
 
   // Hulls from now on use the calibration in `file`.

@@ -22,6 +22,7 @@
 #include "aggregator/hulls/hull_sequence_job.h"
 #include "aggregator/ingest/ingest_service.h"
 #include "aggregator/live/camera_motion_watch.h"
+#include "aggregator/stereo/stills_stage.h"
 
 namespace silnet::aggregator {
 
@@ -44,6 +45,11 @@ struct LiveJobOptions {
   CalibrateJobConfig calibrate;        // pairwise and calibration settings (input/output are set)
   HullSequenceOptions hulls;
   CameraMotionWatchOptions motion;  // window_frames 0 turns the watch off
+  // Once the streams have ended, ask the nodes for stills and build the stereo model with the
+  // calibration in use, into <output>/stills (stereo/stills_stage.h).
+  bool stills = false;
+  double stills_timeout_s = 30.0;
+  std::filesystem::path stills_truth;  // simulation: the true stills folder to score against
 };
 
 // What happened; `failure` says why a stage did not complete (empty when all did).
@@ -61,6 +67,7 @@ struct LiveJobResult {
   bool published = false;
   std::optional<HullSequenceResult> hulls;
   int hull_first_frame = 0;
+  std::optional<StillsStageResult> stills;
   std::string failure;
   double seconds = 0.0;
 };

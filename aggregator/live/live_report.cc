@@ -156,6 +156,84 @@ void WriteSummaryYaml(const std::filesystem::path& path, const LiveJobResult& r)
        << static_cast<int>(r.hulls->Succeeded()) << "mean_missed" << r.hulls->MeanMissed()
        << "mean_spurious" << r.hulls->MeanSpurious() << "}";
   }
+  if (r.stills) {
+    const StillsStageResult& s = *r.stills;
+    fs << "stills"
+       << "{"
+       << "asked" << static_cast<int>(s.collection.cameras.size()) << "complete"
+       << static_cast<int>(s.collection.complete()) << "usable" << static_cast<int>(s.views)
+       << "failure" << s.failure;
+    if (s.stereo && s.stereo->success) {
+      fs << "model_triangles" << static_cast<int>(s.stereo->model.triangles)
+         << "model_closed_manifold" << static_cast<int>(s.stereo->model.closed_manifold)
+         << "stereo_seconds" << s.stereo->seconds.total;
+      if (s.stereo->model.evaluation) {
+        fs << "accuracy_footprints" << s.stereo->model.evaluation->accuracy_footprints;
+        if (s.stereo->model.evaluation->completeness.size() > 1)
+          fs << "completeness_within_2_footprints"
+             << s.stereo->model.evaluation->completeness[1].fraction;
+      }
+    }
+    fs << "}";
+  }
+}
+
+// The stills the nodes sent on command and the stereo model built from them, with its
+// pictures and its own report (3D viewer, per-view figures).
+std::string StillsSection(const LiveJobResult& r) {
+  if (!r.stills) return "<p class=\"muted\">no stills asked for (live --stills)</p>\n";
+  const StillsStageResult& s = *r.stills;
+  std::string html = fmt::format(
+      "<p>{} of {} cameras sent a complete still in {:.1f} s; {} usable for stereo. Stills "
+      "folder: <a href=\"stills/stills.yaml\">stills/</a>.</p>\n",
+      s.collection.complete(), s.collection.cameras.size(), s.collection.seconds, s.views);
+  HtmlTable table({"camera", "still", "frame", "size", "chunks", "corrupt", "asked again"});
+  for (const CollectedStill& c : s.collection.cameras) {
+    table.AddRow({c.camera_id, c.complete ? "complete" : c.reason,
+                  c.complete ? std::to_string(c.frame_index) : "",
+                  c.complete ? fmt::format("{}x{}", c.photo.cols, c.photo.rows) : "",
+                  std::to_string(c.chunks.accepted), std::to_string(c.chunks.corrupt),
+                  std::to_string(c.resend_requests)},
+                 c.complete ? "" : "warn");
+  }
+  html += table.ToHtml();
+  if (!s.warnings.empty()) {
+    html += "<ul class=\"warn\">";
+    for (const std::string& w : s.warnings)
+      html += "<li>" + EscapeHtml(w) + "</li>";
+    html += "</ul>\n";
+  }
+  if (s.calibration_vs_truth) {
+    html += fmt::format(
+        "<p>The calibration in use against the simulation's truth: rotation {:.3f} deg median "
+        "({:.3f} max), focal length {:.2f} % median.</p>\n",
+        s.calibration_vs_truth->median_rotation_deg, s.calibration_vs_truth->max_rotation_deg,
+        100 * s.calibration_vs_truth->median_focal_rel);
+  }
+  if (!s.stereo || !s.stereo->success) {
+    return html + fmt::format("<p class=\"bad\">No stereo model: {}</p>\n", EscapeHtml(s.failure));
+  }
+  const StereoJobResult& m = *s.stereo;
+  html += fmt::format(
+      "<p>Stereo model of {} views: {} triangles, {}closed and manifold; silhouette pixels "
+      "&ge; 1 px inside missed {}, outside covered {}; {:.1f} s. Its report, with the model in "
+      "3D: <a href=\"stills/stereo/report.html\">stills/stereo/report.html</a>.</p>\n",
+      m.views, m.model.triangles, m.model.closed_manifold ? "" : "not ", m.model.MissedInner(),
+      m.model.CoveredOuter(), m.seconds.total);
+  if (m.model.evaluation && m.hull.evaluation) {
+    html += fmt::format("<p>Against the true surface: model {}; visual hull {}.</p>\n",
+                        EscapeHtml(m.model.evaluation->Brief()),
+                        EscapeHtml(m.hull.evaluation->Brief()));
+  }
+  if (!s.collection.cameras.empty()) {
+    const std::string first = s.collection.cameras.front().camera_id;
+    html += fmt::format(
+        "<figure><img src=\"stills/stereo/views/{0}.png\" alt=\"{0}\"><figcaption>{0}: the "
+        "still, the model seen from that camera, and the silhouette comparison."
+        "</figcaption></figure>\n",
+        EscapeHtml(first));
+  }
+  return html;
 }
 
 // The hulls to step through in 3D, seen at first as the first placed camera sees them, or why
@@ -207,6 +285,7 @@ void WriteLiveReport(const std::filesystem::path& out, const LiveJobResult& resu
   html += Section("Calibration and synchronisation", CalibrationSection(result));
   html += Section("Moved cameras", MovedCamerasSection(result));
   html += Section("Visual hulls", HullsViewer(out, result) + HullsSection(result));
+  html += Section("Stills and stereo model", StillsSection(result));
   WriteHtmlPage(out / "report.html", "silnet live run", html);
   WriteSummaryYaml(out / "live_summary.yaml", result);
 }
@@ -258,6 +337,18 @@ std::string LiveSummary(const std::filesystem::path& out, const LiveJobResult& r
         r.hulls->Succeeded(), r.hulls->frames.size(), r.hull_first_frame,
         r.hulls->AllClosedManifold() ? "all " : "not all ", 100 * r.hulls->MeanMissed(),
         100 * r.hulls->MeanSpurious());
+  }
+  if (r.stills) {
+    const StillsStageResult& s = *r.stills;
+    text += fmt::format("  stills       {} of {} cameras, {} usable\n", s.collection.complete(),
+                        s.collection.cameras.size(), s.views);
+    if (s.stereo && s.stereo->success) {
+      text += fmt::format(
+          "  stereo       {} triangles, {}closed, {:.1f} s{}\n", s.stereo->model.triangles,
+          s.stereo->model.closed_manifold ? "" : "not ", s.stereo->seconds.total,
+          s.stereo->model.evaluation ? "; vs truth " + s.stereo->model.evaluation->Brief()
+                                     : std::string());
+    }
   }
   if (!r.failure.empty()) text += "  FAILED       " + r.failure + "\n";
   text += fmt::format("  report       {}\n", (out / "report.html").string());

@@ -227,7 +227,7 @@ StereoViews LoadMiddlebury(const fs::path& folder,
     view.camera.R = rotation;
     view.camera.t = t;
     view.mask = ThresholdDarkBackground(view.image, options);
-    view.silhouette_source = SilhouetteSource::kThreshold;
+    view.silhouette_source = MaskOrigin::kThreshold;
     if (!good.empty() && !good.contains(name)) {
       result.warnings.push_back(
           fmt::format("{}: not listed in {}", view.camera.id, good_list.filename().string()));

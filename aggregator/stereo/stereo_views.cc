@@ -2,13 +2,13 @@
 
 namespace silnet::aggregator {
 
-std::string ToString(SilhouetteSource source) {
+std::string ToString(MaskOrigin source) {
   switch (source) {
-    case SilhouetteSource::kMaskFile:
+    case MaskOrigin::kMaskFile:
       return "mask file";
-    case SilhouetteSource::kBackgroundDifference:
+    case MaskOrigin::kBackgroundDifference:
       return "background difference";
-    case SilhouetteSource::kThreshold:
+    case MaskOrigin::kThreshold:
       return "threshold";
   }
   return "unknown";

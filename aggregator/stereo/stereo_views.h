@@ -12,7 +12,7 @@
 namespace silnet::aggregator {
 
 // Where a view's silhouette came from.
-enum class SilhouetteSource {
+enum class MaskOrigin {
   kMaskFile,              // <camera>/masks/%06d.png
   kBackgroundDifference,  // the still against <camera>/background.png
                           // (node/segmentation/background_difference.h)
@@ -20,14 +20,14 @@ enum class SilhouetteSource {
 };
 
 // "mask file", "background difference" or "threshold".
-std::string ToString(SilhouetteSource source);
+std::string ToString(MaskOrigin source);
 
 // One calibrated photograph with its silhouette.
 struct StereoView {
   CameraModel camera;  // pinhole (zero distortion) unless the loader was asked to keep it
   cv::Mat image;       // CV_8UC3 BGR, camera.width x camera.height
   cv::Mat mask;        // CV_8UC1, 255 silhouette, 0 background, the image's size
-  SilhouetteSource silhouette_source = SilhouetteSource::kMaskFile;
+  MaskOrigin silhouette_source = MaskOrigin::kMaskFile;
   size_t nonbinary_mask_pixels = 0;  // mask file pixels neither 0 nor 255 (thresholded at 128)
 };
 

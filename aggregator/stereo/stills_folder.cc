@@ -83,13 +83,13 @@ std::optional<StereoView> LoadView(const fs::path& dir, const CameraModel& camer
     view.nonbinary_mask_pixels =
         static_cast<size_t>(cv::countNonZero((*mask != 0) & (*mask != 255)));
     view.mask = *mask >= 128;
-    view.silhouette_source = SilhouetteSource::kMaskFile;
+    view.silhouette_source = MaskOrigin::kMaskFile;
   } else if (fs::exists(files.background)) {
     const std::optional<cv::Mat> background =
         ReadImage(files.background, cv::IMREAD_COLOR, size, problem);
     if (!background) return std::nullopt;
     view.mask = node::SegmentAgainstBackground(view.image, *background, options.background).mask;
-    view.silhouette_source = SilhouetteSource::kBackgroundDifference;
+    view.silhouette_source = MaskOrigin::kBackgroundDifference;
   } else {
     throw InputError(fmt::format(
         "camera {} has no silhouette for still {}: provide its mask {} (0 background, 255 "

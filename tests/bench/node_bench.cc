@@ -4,13 +4,17 @@
 // BM_HullTangentTableEncode: silhouette -> convex hull + tangent table + HullFrame encoding.
 // BM_NodePipeline: colour frame -> segmentation -> hull, tangent table, contour -> encoded.
 // BM_HullFrameBytes: HullFrame payload sizes over 8 cameras x 300 frames (counters).
+// BM_EncodeStill/S: a commanded still at S times 640x480 (the frame upscaled): photo PNG and
+//   silhouette PNG, on the node's still thread (counters: bytes).
 
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "node/pipeline/frame_processor.h"
+#include "node/publish/still_store.h"
 #include "shared/silhouette/hull_codec.h"
 #include "sim/camera_network.h"
 #include "sim/render/camera_renderer.h"
@@ -89,6 +93,24 @@ void BM_NodePipeline(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_NodePipeline)->Unit(benchmark::kMillisecond);
+
+void BM_EncodeStill(benchmark::State& state) {
+  std::vector<cv::Mat> masks, colours;
+  RenderFrames(100, 1, &masks, &colours);
+  cv::setNumThreads(1);
+  const double scale = static_cast<double>(state.range(0));
+  cv::Mat photo, mask;
+  cv::resize(colours[0], photo, cv::Size(), scale, scale, cv::INTER_LINEAR);
+  cv::resize(masks[0], mask, cv::Size(), scale, scale, cv::INTER_NEAREST);
+  size_t bytes = 0;
+  for (auto _ : state) {
+    const node::EncodedStill still = node::EncodeStill(1, 100, 0, 0, photo, mask);
+    bytes = still.photo.size() + still.silhouette.size();
+    benchmark::DoNotOptimize(bytes);
+  }
+  state.counters["bytes"] = static_cast<double>(bytes);
+}
+BENCHMARK(BM_EncodeStill)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 void BM_HullFrameBytes(benchmark::State& state) {
   Feed& f = TheFeed();

@@ -82,7 +82,7 @@ TEST(MiddleburyDatasetTest, DinoLoadsSixteenViews) {
   EXPECT_NEAR(views.views[0].camera.t.z(), 0.673097816109, 1e-12);
   for (const StereoView& view : views.views) {
     EXPECT_EQ(view.image.size(), cv::Size(640, 480));
-    EXPECT_EQ(view.silhouette_source, SilhouetteSource::kThreshold);
+    EXPECT_EQ(view.silhouette_source, MaskOrigin::kThreshold);
     EXPECT_TRUE((view.camera.R * view.camera.R.transpose()).isIdentity(1e-12));
     EXPECT_FALSE(view.camera.HasDistortion());
   }
@@ -187,7 +187,7 @@ TEST(MiddleburyDatasetTest, ExportsAStillsFolderThatLoadsBack) {
     const StereoView& a = original.views[v];
     const StereoView& b = loaded.views[v];
     EXPECT_EQ(a.camera.id, b.camera.id);
-    EXPECT_EQ(b.silhouette_source, SilhouetteSource::kMaskFile);
+    EXPECT_EQ(b.silhouette_source, MaskOrigin::kMaskFile);
     EXPECT_EQ(cv::norm(a.image, b.image, cv::NORM_INF), 0) << a.camera.id;
     EXPECT_EQ(cv::norm(a.mask, b.mask, cv::NORM_INF), 0) << a.camera.id;
     EXPECT_TRUE(a.camera.K.isApprox(b.camera.K, 1e-12));

@@ -95,7 +95,7 @@ TEST(StillsFolderTest, LoadsEveryCameraWithItsStillAndMask) {
   for (int c = 0; c < 3; ++c) {
     const StereoView& view = views.views[static_cast<size_t>(c)];
     EXPECT_EQ(view.camera.id, "cam" + std::to_string(c));
-    EXPECT_EQ(view.silhouette_source, SilhouetteSource::kMaskFile);
+    EXPECT_EQ(view.silhouette_source, MaskOrigin::kMaskFile);
     EXPECT_EQ(view.nonbinary_mask_pixels, 0u);
     EXPECT_EQ(cv::norm(view.image, Texture(c), cv::NORM_INF), 0);
     EXPECT_EQ(cv::norm(view.mask, Disc(), cv::NORM_INF), 0);
@@ -186,7 +186,7 @@ TEST(StillsFolderTest, SegmentsACameraWithoutMasksAgainstItsBackground) {
   ASSERT_EQ(views.views.size(), 3u);
   EXPECT_TRUE(views.warnings.empty());
   const StereoView& view = views.views[1];
-  EXPECT_EQ(view.silhouette_source, SilhouetteSource::kBackgroundDifference);
+  EXPECT_EQ(view.silhouette_source, MaskOrigin::kBackgroundDifference);
   cv::Mat expected = cv::Mat::zeros(still.size(), CV_8UC1);
   expected(subject).setTo(255);
   // The node's opening rounds the square's corners: a pixel or two each.
