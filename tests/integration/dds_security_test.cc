@@ -5,6 +5,7 @@
 // node streams every frame to a real aggregator with both authenticated and encrypted.
 
 #include <gtest/gtest.h>
+#include <signal.h>
 
 #include <thread>
 
@@ -142,6 +143,50 @@ TEST_F(DdsSecurity, ARealNodeStreamsEveryFrameToARealAggregator) {
   EXPECT_EQ(sessions[0].hulls.size(), 60u);
   EXPECT_NE(aggregator.Stdout().find("0 missing, 0 duplicates, 0 malformed"), std::string::npos)
       << aggregator.Stdout();
+}
+
+// Stills on command under DDS Security: real nodes (node identity) answer the aggregator
+// identity's `silnet-aggregator stills` with every still, chunks signed and encrypted; the
+// same command run with a node identity is refused (a node may not write commands nor read
+// stills) with a clear error, and writes nothing.
+TEST_F(DdsSecurity, OnlyTheAggregatorCanCommandStills) {
+  const std::filesystem::path dataset = logs_ / "dataset";
+  testing::ChildProcess sim(kBin / "sim/silnet-sim",
+                            {"generate", "-o", dataset.string(), "--cameras", "2", "--frames",
+                             "150", "--seed", "6", "--masks-only"},
+                            logs_.path());
+  ASSERT_EQ(sim.Wait(std::chrono::seconds(120)), std::optional<int>(0)) << sim.Stderr();
+  std::vector<std::unique_ptr<testing::ChildProcess>> nodes;
+  for (const char* camera : {"cam00", "cam01"}) {
+    nodes.push_back(std::make_unique<testing::ChildProcess>(
+        kBin / "node/silnet-node",
+        std::vector<std::string>{"--camera-id", camera, "--source",
+                                 "sim-masks:" + (dataset / camera).string(), "--linger", "60"},
+        logs_.path(), As("node")));
+  }
+  const std::string calibration = (dataset / "ground_truth.yaml").string();
+  testing::ChildProcess impostor(kBin / "aggregator/silnet-aggregator",
+                                 {"stills", (logs_ / "by-node").string(), "--calib", calibration,
+                                  "--timeout", "10", "--discovery", "10"},
+                                 logs_.path(), As("node"));
+  const std::optional<int> refused = impostor.Wait(std::chrono::seconds(60));
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_NE(*refused, 0);
+  EXPECT_NE(impostor.Stderr().find("DDS"), std::string::npos) << impostor.Stderr();
+  EXPECT_FALSE(std::filesystem::exists(logs_ / "by-node" / "stills.yaml"));
+
+  testing::ChildProcess aggregator(kBin / "aggregator/silnet-aggregator",
+                                   {"stills", (logs_ / "by-aggregator").string(), "--calib",
+                                    calibration, "--timeout", "30", "--discovery", "20"},
+                                   logs_.path(), As("aggregator"));
+  ASSERT_EQ(aggregator.Wait(std::chrono::seconds(90)), std::optional<int>(0))
+      << aggregator.Stdout() << aggregator.Stderr();
+  EXPECT_NE(aggregator.Stdout().find("2 of 2 cameras answered"), std::string::npos)
+      << aggregator.Stdout();
+  for (const char* camera : {"cam00", "cam01"})
+    EXPECT_TRUE(std::filesystem::exists(logs_ / "by-aggregator" / camera / "stills/000000.png"));
+  for (auto& node : nodes)
+    node->Kill(SIGTERM);
 }
 
 }  // namespace
