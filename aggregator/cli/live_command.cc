@@ -24,7 +24,7 @@ struct LiveArgs {
   bool no_publish = false, voxels = false, overlays = false, serve = false, continuous = false;
   bool stills = false;
   std::string stills_truth;
-  double stills_timeout_s = 30.0;
+  double stills_timeout_s = 30.0, stills_at_s = -1.0;
   PairwiseArgs pairwise;
 };
 
@@ -55,6 +55,8 @@ int RunLive(const LiveArgs& args) {
   options.stills = args.stills;
   options.stills_truth = args.stills_truth;
   options.stills_timeout_s = args.stills_timeout_s;
+  options.stills_at_s = args.stills_at_s;
+  if (args.stills_at_s >= 0) options.stills = true;
   if (!args.ground_truth.empty() && !std::filesystem::is_regular_file(args.ground_truth))
     throw InputError("--ground-truth " + args.ground_truth + " is not a file");
   const LivePidFile pid_file(options.output);
@@ -113,6 +115,10 @@ Command AddLiveCommand(CLI::App& app) {
   cmd->add_flag("--stills", args->stills,
                 "once the streams end, ask the nodes for stills and build the stereo model "
                 "(OUT/stills, in the report)");
+  cmd->add_option("--stills-at", args->stills_at_s,
+                  "ask for the stills of this reference instant (seconds) as soon as the "
+                  "calibration is in use, and build the model while ingesting goes on")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--stills-timeout", args->stills_timeout_s, "seconds to wait for the stills")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "aggregator/calibration/calibration_publisher.h"
+#include "aggregator/ingest/still_views.h"
 #include "aggregator/live/recent_contours.h"
 #include "aggregator/live/recent_silhouettes.h"
 #include "shared/io/calibration_yaml.h"
@@ -112,10 +113,12 @@ class LiveJob {
       }
       const Stage before = stage_;
       Advance(cameras, idle);
+      AdvanceStills();
       WatchForMovedCameras(cameras);
       if (stage_ != before) stage_entered = Clock::now();
       if (options_.serve) continue;
-      if (stage_ == Stage::kDone && idle > options_.idle_exit_s && ingest_.Totals().missing == 0) {
+      if (stage_ == Stage::kDone && idle > options_.idle_exit_s && ingest_.Totals().missing == 0 &&
+          !StillsRunning()) {
         break;
       }
       // Silence ends the run only while it waits for frames (or for missing ones at the end);
@@ -125,7 +128,8 @@ class LiveJob {
                                       stage_ == Stage::kWaitingForHullFrames ||
                                       stage_ == Stage::kDone;
       const double silent = std::min(idle, SecondsSince(stage_entered));
-      if (waiting_for_frames && silent > options_.give_up_s && ingest_.Totals().received > 0) {
+      if (waiting_for_frames && silent > options_.give_up_s && ingest_.Totals().received > 0 &&
+          !StillsRunning()) {
         spdlog::warn("live: no samples for {:.0f} s: stopping while {}", idle, ToString(stage_));
         if (result_.failure.empty())
           result_.failure = fmt::format("the streams went silent while {}", ToString(stage_));
@@ -141,7 +145,7 @@ class LiveJob {
       result_.failure = fmt::format("stopped while {}", ToString(stage_));
     ingest_.Flush();
     ingest_.WriteSummary(options_.output / "session" / "ingest_summary.yaml");
-    if (options_.stills && !stop_()) TakeStills();
+    if (options_.stills && options_.stills_at_s < 0 && !stop_()) TakeStills();
     result_.cameras = ingest_.Status();
     result_.ingest = ingest_.Totals();
     result_.seconds = SecondsSince(start);
@@ -378,12 +382,9 @@ class LiveJob {
     stage_ = hull_count_ > 0 ? Stage::kWaitingForHullFrames : Stage::kDone;
   }
 
-  // Asks the nodes for stills and builds the stereo model with the calibration in use.
-  void TakeStills() {
-    if (hull_cameras_.empty()) {
-      spdlog::warn("live: no calibration, so no stills");
-      return;
-    }
+  // The stills stage with the calibration in use; `instant_s` >= 0 names the reference
+  // instant of the stills (else each node's next frame).
+  StillsStageConfig StillsConfig(double instant_s) const {
     StillsStageConfig config;
     config.cameras = hull_cameras_;
     config.output = options_.output / "stills";
@@ -391,19 +392,63 @@ class LiveJob {
     config.collect.domain = options_.domain;
     config.collect.timeout =
         std::chrono::milliseconds(static_cast<int64_t>(options_.stills_timeout_s * 1000));
+    for (const CameraModel& camera : hull_cameras_) {
+      config.collect.targets.push_back(
+          StillTarget{camera.id, instant_s >= 0 ? FirstFrameAtOrAfter(camera, instant_s) : 0});
+    }
+    return config;
+  }
+
+  // Keeps the stage's outcome, its warnings and failure.
+  void KeepStills(StillsStageResult stills) {
+    for (const std::string& warning : stills.warnings)
+      spdlog::warn("live: {}", warning);
+    if (!stills.failure.empty() && result_.failure.empty())
+      result_.failure = "stills: " + stills.failure;
+    result_.stills = std::move(stills);
+  }
+
+  // Once the streams have ended: asks the nodes for stills and builds the stereo model.
+  void TakeStills() {
+    if (hull_cameras_.empty()) {
+      spdlog::warn("live: no calibration, so no stills");
+      return;
+    }
     spdlog::info("live: asking the {} calibrated cameras for stills", hull_cameras_.size());
     Progress progress("stills", 0, ConsoleProgressPrinter(), std::chrono::seconds(5));
     try {
-      result_.stills = RunStillsStage(config, &progress);
+      KeepStills(RunStillsStage(StillsConfig(-1.0), &progress));
     } catch (const std::exception& e) {
       if (result_.failure.empty()) result_.failure = fmt::format("stills failed: {}", e.what());
-      return;
     }
-    for (const std::string& warning : result_.stills->warnings)
-      spdlog::warn("live: {}", warning);
-    if (!result_.stills->failure.empty() && result_.failure.empty())
-      result_.failure = "stills: " + result_.stills->failure;
   }
+
+  // With stills_at_s: starts the stills of that instant once a calibration is in use, in the
+  // background, and keeps their outcome when they are done.
+  void AdvanceStills() {
+    if (options_.stills_at_s < 0) return;
+    if (!stills_started_ && !hull_cameras_.empty()) {
+      stills_started_ = true;
+      spdlog::info("live: asking the {} calibrated cameras for stills of {:.2f} s",
+                   hull_cameras_.size(), options_.stills_at_s);
+      stills_progress_ = std::make_unique<Progress>("stills", 0, ConsoleProgressPrinter(),
+                                                    std::chrono::seconds(5));
+      stills_future_ = std::async(std::launch::async, [config = StillsConfig(options_.stills_at_s),
+                                                       progress = stills_progress_.get()] {
+        return RunStillsStage(config, progress);
+      });
+    }
+    if (Ready(stills_future_)) {
+      try {
+        KeepStills(stills_future_.get());
+      } catch (const std::exception& e) {
+        if (result_.failure.empty()) result_.failure = fmt::format("stills failed: {}", e.what());
+      }
+    }
+  }
+
+  // Stills asked for at an instant are being collected or reconstructed.
+  bool StillsRunning() const { return stills_future_.valid(); }
 
   // Hulls from now on use the calibration in `file`.
   void UseForHulls(const std::filesystem::path& file) {
@@ -540,9 +585,11 @@ class LiveJob {
   // Cancels and waits for a background stage still running.
   void Cancel() {
     if (progress_ && (calibration_future_.valid() || hulls_future_.valid())) progress_->Cancel();
+    if (stills_progress_ && stills_future_.valid()) stills_progress_->Cancel();
     try {
       if (calibration_future_.valid()) calibration_future_.get();
       if (hulls_future_.valid()) hulls_future_.get();
+      if (stills_future_.valid()) stills_future_.get();
     } catch (const std::exception& e) {
       spdlog::warn("live: a cancelled stage ended with: {}", e.what());
     }
@@ -571,6 +618,9 @@ class LiveJob {
   std::unique_ptr<Progress> progress_;
   std::future<CalibrateJobResult> calibration_future_;
   std::future<HullSequenceResult> hulls_future_;
+  bool stills_started_ = false;
+  std::unique_ptr<Progress> stills_progress_;
+  std::future<StillsStageResult> stills_future_;
   LiveJobResult result_;
 };
 

@@ -48,6 +48,10 @@ struct LiveJobOptions {
   // Once the streams have ended, ask the nodes for stills and build the stereo model with the
   // calibration in use, into <output>/stills (stereo/stills_stage.h).
   bool stills = false;
+  // Instead, as soon as a calibration is in use, ask for the stills of this reference instant
+  // (seconds; each node takes its first frame at or after it, or its next frame if that has
+  // passed) and build the model in the background while ingesting goes on. Negative: off.
+  double stills_at_s = -1.0;
   double stills_timeout_s = 30.0;
   std::filesystem::path stills_truth;  // simulation: the true stills folder to score against
 };
