@@ -30,6 +30,7 @@ struct CameraTrack {
   bool seen = false;              // its node's CameraInfo arrived
   Clock::time_point seen_at{};    // when its newest CameraInfo arrived
   Clock::time_point asked_at{};   // when the capture was last asked for
+  uint32_t asked_readers = 0;     // command readers matched then
   Clock::time_point last_news{};  // the newest chunk (or the first request)
   Clock::time_point last_ask{};   // the newest request of any kind
 };
@@ -133,6 +134,7 @@ class Collector {
     Send(command, t.result.camera_id);
     ++t.result.requests;
     t.last_ask = t.asked_at = Clock::now();
+    t.asked_readers = command_writer_.Counters().matched_readers;
     if (t.last_news == Clock::time_point{}) t.last_news = t.last_ask;
   }
 
@@ -179,9 +181,10 @@ class Collector {
 
   // Cameras silent for a while: missing chunks are asked for again (a part of which nothing
   // arrived, whole). A camera that has sent nothing is asked for its still again only when
-  // its node announced itself after the last request (it appeared late or restarted): a node
-  // that has the request may be waiting for the frame asked for, and the reliable command
-  // needs no repeating.
+  // its node announced itself after the last request (it appeared late or restarted) or more
+  // command readers have matched since (the request may have missed it): a node that has the
+  // request may be waiting for the frame asked for, and the reliable command needs no
+  // repeating.
   void AskAgain() {
     const auto now = Clock::now();
     for (CameraTrack& t : tracks_) {
@@ -192,7 +195,9 @@ class Collector {
       const bool any = t.assembly->part(silnet_wire_STILL_PHOTO).started() ||
                        t.assembly->part(silnet_wire_STILL_SILHOUETTE).started();
       if (!any) {
-        if (t.seen && t.seen_at > t.asked_at) AskForStill(t);
+        const bool missed = (t.seen && t.seen_at > t.asked_at) ||
+                            command_writer_.Counters().matched_readers > t.asked_readers;
+        if (missed) AskForStill(t);
         continue;
       }
       for (silnet_wire_StillPart part : {silnet_wire_STILL_PHOTO, silnet_wire_STILL_SILHOUETTE}) {
