@@ -1,9 +1,12 @@
 // The main job with real processes: silnet-sim starts eight silnet-node processes replaying
 // a simulated capture over loopback DDS, and silnet-aggregator live ingests, calibrates once
 // it has enough frames, publishes the calibration, builds hulls of the frames that follow and
-// writes the report. The calibration must meet the network accuracy targets (DESIGN.md), no
-// frame may be lost, the hulls must be closed and reproject onto the silhouettes, a reader
-// must receive the published calibration, and no camera may be reported moved. As a service
+// writes the report; then it asks the nodes for stills of the statue standing in the room
+// (every still losing a chunk and having another corrupted on the way) and builds the stereo
+// model. The calibration must meet the network accuracy targets (DESIGN.md), no frame may be
+// lost, the hulls must be closed and reproject onto the silhouettes, a reader must receive
+// the published calibration, no camera may be reported moved, every still must arrive whole
+// and the model must be closed and nearer the statue's true surface than its hull. As a service
 // (--serve) it notices a camera knocked out of place mid-run, re-estimates it and publishes
 // the corrected calibration, shows its state through `silnet-aggregator status`, and
 // recalibrates on the newest frames when `silnet-aggregator recalibrate` asks.
@@ -49,18 +52,32 @@ std::filesystem::path GenerateMaskCapture(const testing::TempDir& work, int fram
 // lossless (capture waits for segmentation): on a busy machine a node would otherwise drop
 // frames, and the calibration's figures would depend on the machine's load.
 testing::ChildProcess StartMaskNodes(const testing::TempDir& work,
-                                     const std::filesystem::path& dataset, int linger_s) {
-  return testing::ChildProcess(
-      kBin / "sim/silnet-sim",
-      {"run-nodes", dataset.string(), "--masks", "--speed", "2", "--linger",
-       std::to_string(linger_s), "--logs", (work / "node-logs").string(), "--node-arg=--lossless"},
-      work.path());
+                                     const std::filesystem::path& dataset, int linger_s,
+                                     const std::vector<std::string>& extra = {}) {
+  std::vector<std::string> args{"run-nodes",
+                                dataset.string(),
+                                "--masks",
+                                "--speed",
+                                "2",
+                                "--linger",
+                                std::to_string(linger_s),
+                                "--logs",
+                                (work / "node-logs").string(),
+                                "--node-arg=--lossless"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return testing::ChildProcess(kBin / "sim/silnet-sim", args, work.path());
 }
 
-TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsAndReport) {
+TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsStillsModelAndReport) {
   testing::TempDir work;
   const std::filesystem::path dataset = GenerateMaskCapture(work, 480);
   ASSERT_FALSE(dataset.empty());
+  // Once the walk is over a statue stands in the room: the nodes' still streams show it.
+  testing::ChildProcess statue(kBin / "sim/silnet-sim",
+                               {"stills", "-o", (dataset / "statue").string(), "--cameras-from",
+                                dataset.string(), "--backgrounds", "--seed", "1"},
+                               work.path());
+  ASSERT_EQ(statue.Wait(seconds(300)), std::optional<int>(0)) << statue.Stderr();
   // A reader of the latched Calibration topic, as a node or tool would have.
   dds::Participant participant;
   dds::Topic<silnet_wire_Calibration> topic(participant);
@@ -69,15 +86,38 @@ TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsAndReport) {
   // The streams end (480 frames) long before the calibration of the first 400 does: the
   // silence then must not count as the streams going quiet while the job waits for hull
   // frames it already holds (--give-up-after shorter than any calibration).
-  testing::ChildProcess live(
-      kBin / "aggregator/silnet-aggregator",
-      {"live", "-o", out.string(), "--cameras", "8", "--calibrate-after", "400", "--hull-frames",
-       "8", "--hulls-continuous", "--hull-gap", "20", "--ground-truth",
-       (dataset / "ground_truth.yaml").string(), "--idle-exit", "3", "--give-up-after", "15"},
-      work.path());
+  testing::ChildProcess live(kBin / "aggregator/silnet-aggregator",
+                             {"live",
+                              "-o",
+                              out.string(),
+                              "--cameras",
+                              "8",
+                              "--calibrate-after",
+                              "400",
+                              "--hull-frames",
+                              "8",
+                              "--hulls-continuous",
+                              "--hull-gap",
+                              "20",
+                              "--ground-truth",
+                              (dataset / "ground_truth.yaml").string(),
+                              "--idle-exit",
+                              "3",
+                              "--give-up-after",
+                              "15",
+                              "--stills",
+                              "--stills-truth",
+                              (dataset / "statue").string()},
+                             work.path());
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  testing::ChildProcess nodes = StartMaskNodes(work, dataset, 15);
+  // The nodes stay for the still requests; every still loses one chunk and has another
+  // corrupted on its first sending.
+  testing::ChildProcess nodes = StartMaskNodes(
+      work, dataset, 600,
+      {"--node-arg=--still-chunk-kb", "--node-arg=64", "--node-arg=--test-drop-still-chunk",
+       "--node-arg=2", "--node-arg=--test-corrupt-still-chunk", "--node-arg=0"});
   ASSERT_EQ(live.Wait(seconds(600)), std::optional<int>(0)) << live.Stdout() << live.Stderr();
+  nodes.Signal(SIGTERM);
   ASSERT_EQ(nodes.Wait(seconds(60)), std::optional<int>(0)) << nodes.Stderr();
   std::printf("%s", live.Stdout().c_str());
   std::set<std::string> calibrated;
@@ -148,6 +188,30 @@ TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsAndReport) {
   EXPECT_TRUE(std::filesystem::exists(out / "calibration/report/report.html"));
   EXPECT_TRUE(std::filesystem::exists(out / "calibration/calibration.yaml"));
   EXPECT_NE(live.Stdout().find("8 of 8 cameras"), std::string::npos) << live.Stdout();
+
+  // Stills: every camera's whole, the lost and corrupt chunks fetched again; the model built
+  // with the live calibration is closed and nearer the statue's true surface than its hull.
+  const cv::FileNode stills = summary["stills"];
+  ASSERT_FALSE(stills.empty());
+  EXPECT_EQ(static_cast<int>(stills["complete"]), 8);
+  EXPECT_EQ(static_cast<int>(stills["usable"]), 8);
+  cv::FileStorage collected((out / "stills/stills.yaml").string(), cv::FileStorage::READ);
+  ASSERT_TRUE(collected.isOpened());
+  for (const cv::FileNode& camera : collected["cameras"]) {
+    const std::string id = camera["id"];
+    EXPECT_EQ(static_cast<int>(camera["complete"]), 1) << id;
+    EXPECT_GE(static_cast<int>(camera["chunks_corrupt"]), 1) << id;
+    EXPECT_GE(static_cast<int>(camera["resend_requests"]), 1) << id;
+  }
+  cv::FileStorage stereo((out / "stills/stereo/stereo.yaml").string(), cv::FileStorage::READ);
+  ASSERT_TRUE(stereo.isOpened());
+  EXPECT_EQ(static_cast<int>(stereo["model"]["closed_manifold"]), 1);
+  const double accuracy = stereo["model"]["evaluation"]["accuracy_footprints"];
+  const double hull_accuracy = stereo["hull"]["evaluation"]["accuracy_footprints"];
+  std::printf("statue from the live calibration: accuracy %.2f fp (hull %.2f)\n", accuracy,
+              hull_accuracy);
+  EXPECT_LT(accuracy, hull_accuracy);
+  EXPECT_NE(live.Stdout().find("stills       8 of 8 cameras"), std::string::npos) << live.Stdout();
 }
 
 // Waits up to `timeout` for `done()`; returns whether it happened.
