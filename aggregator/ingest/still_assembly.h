@@ -45,6 +45,7 @@ class StillPartAssembly {
   // Forgets every chunk (the assembled image failed to decode: all are asked for again).
   void Reset();
 
+  // What the first chunk announced (valid once started()).
   int width = 0, height = 0;
   uint64_t frame_index = 0;
   uint32_t frame_flags = 0;
