@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -48,27 +47,21 @@ ChunkVerdict StillPartAssembly::Accept(const silnet_wire_Still& sample) {
   std::optional<std::vector<uint8_t>>& slot = chunks_[sample.chunk_index];
   if (slot) return ChunkVerdict::kDuplicate;
   slot.emplace(sample.data._buffer, sample.data._buffer + sample.data._length);
-  // Every chunk intact but the image does not add up to what the node announced: the
-  // chunks do not belong together, so all of them are fetched again.
-  const bool all_held = std::all_of(chunks_.begin(), chunks_.end(),
-                                    [](const auto& chunk) { return chunk.has_value(); });
-  if (all_held && !Complete()) {
+  if (++held_ < chunks_.size()) return ChunkVerdict::kAccepted;
+  // The last chunk: the whole image must add up to what the node announced. Every chunk
+  // intact but the image not: the chunks do not belong together, all are fetched again.
+  uint64_t bytes = 0;
+  uint32_t crc = 0;
+  for (const auto& chunk : chunks_) {
+    bytes += chunk->size();
+    crc = Crc32(crc, chunk->data(), chunk->size());
+  }
+  complete_ = bytes == image_bytes_ && crc == image_crc_;
+  if (!complete_) {
     Reset();
     return ChunkVerdict::kMalformed;
   }
   return ChunkVerdict::kAccepted;
-}
-
-bool StillPartAssembly::Complete() const {
-  if (chunks_.empty()) return false;
-  uint64_t bytes = 0;
-  uint32_t crc = 0;
-  for (const auto& chunk : chunks_) {
-    if (!chunk) return false;
-    bytes += chunk->size();
-    crc = Crc32(crc, chunk->data(), chunk->size());
-  }
-  return bytes == image_bytes_ && crc == image_crc_;
 }
 
 std::vector<std::pair<uint32_t, uint32_t>> StillPartAssembly::Missing() const {
@@ -94,6 +87,8 @@ std::vector<uint8_t> StillPartAssembly::Bytes() const {
 void StillPartAssembly::Reset() {
   for (auto& chunk : chunks_)
     chunk.reset();
+  held_ = 0;
+  complete_ = false;
 }
 
 ChunkVerdict StillAssembly::Accept(const silnet_wire_Still& sample) {

@@ -37,7 +37,7 @@ class StillPartAssembly {
   ChunkVerdict Accept(const silnet_wire_Still& sample);
   bool started() const { return !chunks_.empty(); }
   // Every chunk held and the whole image's CRC-32 matches.
-  bool Complete() const;
+  bool Complete() const { return complete_; }
   // Ranges [first, last] of chunks not held (empty before the first chunk arrived).
   std::vector<std::pair<uint32_t, uint32_t>> Missing() const;
   // The encoded image, once complete.
@@ -57,6 +57,8 @@ class StillPartAssembly {
   uint64_t image_bytes_ = 0;
   uint32_t image_crc_ = 0;
   std::vector<std::optional<std::vector<uint8_t>>> chunks_;
+  size_t held_ = 0;        // chunks held
+  bool complete_ = false;  // checked once, when the last chunk arrived
 };
 
 // A camera's still as it arrives.

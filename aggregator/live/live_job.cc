@@ -98,12 +98,14 @@ class LiveJob {
       // Activity is frames arriving: nodes that linger after their feeds still send their
       // status every second, and the streams have ended all the same.
       ingest_.Poll(std::chrono::milliseconds(100));
-      const uint64_t received = ingest_.Totals().received;
+      const std::vector<CameraIngestStatus> cameras = ingest_.Status();
+      uint64_t received = 0;
+      for (const CameraIngestStatus& c : cameras)
+        received += c.received;
       if (received != last_received) {
         last_received = received;
         last_activity = Clock::now();
       }
-      const std::vector<CameraIngestStatus> cameras = ingest_.Status();
       const double idle = SecondsSince(last_activity);
       if (Clock::now() >= next_status) {
         next_status = Clock::now() + std::chrono::seconds(5);

@@ -64,33 +64,37 @@ size_t NodeTransport::PublishStillChunks(const EncodedStill& still, silnet_wire_
       part == silnet_wire_STILL_PHOTO ? still.photo : still.silhouette;
   chunk_bytes = std::max<size_t>(chunk_bytes, 1);
   const size_t chunks = std::max<size_t>(1, (data.size() + chunk_bytes - 1) / chunk_bytes);
-  const uint32_t image_crc = Crc32(0, data.data(), data.size());
+  // What every chunk of this part says about the image.
+  silnet_wire_Still sample{};
+  dds::CopyBoundedString(camera_id_, sample.camera_id, "camera id");
+  sample.still_id = still.still_id;
+  sample.part = part;
+  sample.chunk_count = static_cast<uint32_t>(chunks);
+  sample.frame_index = still.frame_index;
+  sample.frame_flags = still.frame_flags;
+  sample.capture_time_ns = still.capture_time_ns;
+  sample.image_width = static_cast<uint16_t>(still.width);
+  sample.image_height = static_cast<uint16_t>(still.height);
+  dds::CopyBoundedString(part == silnet_wire_STILL_PHOTO ? still.photo_encoding : "png",
+                         sample.encoding, "encoding");
+  sample.image_bytes = data.size();
+  sample.image_crc32 = Crc32(0, data.data(), data.size());
   size_t written = 0;
   for (size_t i = first; i < chunks && i <= last; ++i) {
     if (static_cast<int>(i) == faults.drop_chunk) continue;
     const size_t begin = i * chunk_bytes, end = std::min(data.size(), begin + chunk_bytes);
-    std::vector<uint8_t> bytes(data.begin() + static_cast<std::ptrdiff_t>(begin),
-                               data.begin() + static_cast<std::ptrdiff_t>(end));
-    silnet_wire_Still sample{};
-    dds::CopyBoundedString(camera_id_, sample.camera_id, "camera id");
-    sample.still_id = still.still_id;
-    sample.part = part;
     sample.chunk_index = static_cast<uint32_t>(i);
-    sample.chunk_count = static_cast<uint32_t>(chunks);
-    sample.frame_index = still.frame_index;
-    sample.frame_flags = still.frame_flags;
-    sample.capture_time_ns = still.capture_time_ns;
-    sample.image_width = static_cast<uint16_t>(still.width);
-    sample.image_height = static_cast<uint16_t>(still.height);
-    dds::CopyBoundedString(part == silnet_wire_STILL_PHOTO ? still.photo_encoding : "png",
-                           sample.encoding, "encoding");
-    sample.image_bytes = data.size();
-    sample.image_crc32 = image_crc;
-    sample.chunk_crc32 = Crc32(0, bytes.data(), bytes.size());
-    if (static_cast<int>(i) == faults.corrupt_chunk && !bytes.empty())
-      bytes[bytes.size() / 2] ^= 0x5a;
-    sample.data._buffer = bytes.data();
-    sample.data._length = static_cast<uint32_t>(bytes.size());
+    sample.chunk_crc32 = Crc32(0, data.data() + begin, end - begin);
+    // The writer only reads the data; a chunk to corrupt (tests) is a spoilt copy.
+    std::vector<uint8_t> spoilt;
+    const uint8_t* bytes = data.data() + begin;
+    if (static_cast<int>(i) == faults.corrupt_chunk && end > begin) {
+      spoilt.assign(bytes, bytes + (end - begin));
+      spoilt[spoilt.size() / 2] ^= 0x5a;
+      bytes = spoilt.data();
+    }
+    sample.data._buffer = const_cast<uint8_t*>(bytes);
+    sample.data._length = static_cast<uint32_t>(end - begin);
     sample.data._maximum = sample.data._length;
     sample.data._release = false;
     if (!WriteRetrying(still_writer_, sample, stop)) break;
