@@ -11,6 +11,7 @@ namespace {
 
 std::atomic<bool> g_stop{false};
 std::atomic<bool> g_recalibrate{false};
+std::atomic<bool> g_stills{false};
 
 }  // namespace
 
@@ -23,11 +24,19 @@ void WatchSignals() {
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
   sigaddset(&signals, SIGHUP);
+  sigaddset(&signals, SIGUSR1);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   std::thread([] {
     int received = 0;
-    while (sigwait(&signals, &received) == 0 && received == SIGHUP)
-      g_recalibrate = true;
+    while (sigwait(&signals, &received) == 0) {
+      if (received == SIGHUP) {
+        g_recalibrate = true;
+      } else if (received == SIGUSR1) {
+        g_stills = true;
+      } else {
+        break;
+      }
+    }
     g_stop = true;
   }).detach();
 }
@@ -38,6 +47,10 @@ bool StopRequested() {
 
 bool TakeRecalibrationRequest() {
   return g_recalibrate.exchange(false);
+}
+
+bool TakeStillsSignal() {
+  return g_stills.exchange(false);
 }
 
 CancelOnSignal::CancelOnSignal(Progress* progress)

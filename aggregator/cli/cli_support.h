@@ -15,14 +15,17 @@
 
 namespace silnet::aggregator::cli {
 
-// Routes SIGINT, SIGTERM and SIGHUP to a watcher thread (other threads have them blocked) and
-// ignores SIGXFSZ (a file-size limit becomes a reported write error); call once before
-// starting threads.
+// Routes SIGINT, SIGTERM, SIGHUP and SIGUSR1 to a watcher thread (other threads have them blocked)
+// and ignores SIGXFSZ (a file-size limit becomes a reported write error); call once before starting
+// threads.
 void WatchSignals();
 // True once SIGINT or SIGTERM arrived.
 bool StopRequested();
 // True once per SIGHUP received since the last call: the service's "recalibrate" command.
 bool TakeRecalibrationRequest();
+// True once per SIGUSR1 received since the last call: the service's "stills" command (its
+// request waits in the job's folder, live/service_control.h).
+bool TakeStillsSignal();
 
 // Cancels `progress` when SIGINT/SIGTERM arrives, while the job runs.
 class CancelOnSignal {

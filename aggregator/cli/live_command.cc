@@ -61,7 +61,8 @@ int RunLive(const LiveArgs& args) {
     throw InputError("--ground-truth " + args.ground_truth + " is not a file");
   const LivePidFile pid_file(options.output);
   const LiveJobResult result = RunLiveJob(
-      options, [] { return StopRequested(); }, [] { return TakeRecalibrationRequest(); });
+      options, [] { return StopRequested(); }, [] { return TakeRecalibrationRequest(); },
+      [] { return TakeStillsSignal(); });
   WriteLiveReport(options.output, result);
   std::printf("%s", LiveSummary(options.output, result).c_str());
   if (StopRequested() && !args.serve) return 130;
@@ -108,7 +109,8 @@ Command AddLiveCommand(CLI::App& app) {
   cmd->add_flag("--no-publish", args->no_publish, "do not publish the calibration on DDS");
   cmd->add_flag("--serve", args->serve,
                 "run as a service until SIGINT/SIGTERM; SIGHUP (or `silnet-aggregator recalibrate "
-                "OUT`) recalibrates on the newest frames");
+                "OUT`) recalibrates on the newest frames, `silnet-aggregator stills OUT` takes "
+                "stills and builds their model into the report");
   cmd->add_flag("--voxels", args->voxels,
                 "carve voxel hulls instead of the exact polyhedral ones (their fallback)");
   cmd->add_flag("--overlays", args->overlays, "hull reprojection overlays per view");

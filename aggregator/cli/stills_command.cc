@@ -1,13 +1,21 @@
 // silnet-aggregator stills: asks the camera nodes of a calibration for a still each, collects
 // photos and silhouettes over DDS (re-fetching lost or corrupt chunks), writes them as a
 // stills folder with that calibration, and on request builds the stereo model from them.
+// Without a calibration it asks the live job running in the folder to do so with the
+// calibration it uses, and follows the job's answer.
 
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <thread>
 
 #include "aggregator/cli/cli_support.h"
 #include "aggregator/cli/commands.h"
 #include "aggregator/ingest/still_views.h"
+#include "aggregator/live/service_control.h"
 #include "aggregator/stereo/stills_stage.h"
 #include "shared/io/calibration_yaml.h"
 #include "shared/util/check.h"
@@ -19,12 +27,51 @@ struct StillsArgs {
   std::string out, calibration, truth;
   double at_s = -1.0;  // reference time of the still, seconds (negative: each node's next frame)
   double timeout_s = 30.0, discovery_s = 5.0;
-  bool stereo = false;
+  bool stereo = false, no_stereo = false, no_wait = false;
   int domain = -1;
   bool loopback = false;
 };
 
+// Asks the live job in `args.out` for stills and, unless told not to, prints its answers
+// until it is done: 0 with a model (or stills without one asked for), 3 if they failed.
+int AskLiveJob(const StillsArgs& args) {
+  if (!args.truth.empty() || args.domain >= 0 || args.loopback)
+    throw InputError(
+        "--truth, --domain and --loopback need --calib: the live job uses its own domain and "
+        "--stills-truth");
+  StillsRequest request;
+  request.id =
+      fmt::format("{}-{}", getpid(), std::chrono::system_clock::now().time_since_epoch().count());
+  request.at_s = args.at_s;
+  request.stereo = !args.no_stereo;
+  const int pid = RequestStills(args.out, request);
+  std::printf("asked the live job (process %d) for stills into %s/stills\n", pid, args.out.c_str());
+  if (args.no_wait) return 0;
+  std::string last_state;
+  while (!StopRequested()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    const std::optional<StillsAnswer> answer = ReadStillsAnswer(args.out);
+    const bool answered = answer && answer->id == request.id;
+    if (answered && answer->state != last_state) {
+      last_state = answer->state;
+      std::printf("stills: %s\n%s", answer->state.c_str(), answer->text.c_str());
+      std::fflush(stdout);
+      if (answer->state == "done") return 0;
+      if (answer->state == "failed") return 3;
+    }
+    if (!RunningLiveJob(args.out)) {
+      std::printf("stills: the live job (process %d) ended without answering\n", pid);
+      return 3;
+    }
+  }
+  std::printf("stills: stopped waiting; the live job goes on with the request\n");
+  return 130;
+}
+
 int RunStills(const StillsArgs& args) {
+  if (args.calibration.empty()) return AskLiveJob(args);
+  if (args.no_stereo || args.no_wait)
+    throw InputError("--no-stereo and --no-wait are for asking a live job (without --calib)");
   StillsStageConfig config;
   config.cameras = LoadCalibration(args.calibration);
   config.output = args.out;
@@ -68,12 +115,17 @@ int RunStills(const StillsArgs& args) {
 Command AddStillsCommand(CLI::App& app) {
   auto args = std::make_shared<StillsArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "stills", "ask the camera nodes for a still each and collect them as a stills folder");
-  cmd->add_option("out", args->out, "output stills folder")->required();
+      "stills",
+      "ask the camera nodes for a still each and collect them as a stills folder (or ask the "
+      "live job running in a folder to)");
+  cmd->add_option("out", args->out,
+                  "output stills folder; without --calib the folder of a running live job "
+                  "(`live --serve`), which takes the stills into OUT/stills with the "
+                  "calibration it uses and adds the model to its report")
+      ->required();
   cmd->add_option("--calib", args->calibration,
                   "calibration.yaml of the cameras to ask (written beside the stills, carried "
-                  "over to the stills' resolution)")
-      ->required();
+                  "over to the stills' resolution)");
   cmd->add_option("--at", args->at_s,
                   "reference time of the still in seconds; each node takes its first frame at "
                   "or after it (its offset from the calibration); default: each node's next "
@@ -84,7 +136,12 @@ Command AddStillsCommand(CLI::App& app) {
   cmd->add_option("--discovery", args->discovery_s, "seconds to wait for the nodes to appear")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  cmd->add_flag("--stereo", args->stereo, "then build the stereo model into <out>/stereo");
+  cmd->add_flag("--stereo", args->stereo,
+                "with --calib: then build the stereo model into <out>/stereo");
+  cmd->add_flag("--no-stereo", args->no_stereo,
+                "without --calib: the live job collects the stills without building a model");
+  cmd->add_flag("--no-wait", args->no_wait,
+                "without --calib: return once asked instead of following the job's answer");
   cmd->add_option("--truth", args->truth,
                   "simulation only: the true stills folder of the subject (silnet-sim stills "
                   "--cameras-from: calibration.yaml, gt_surface.ply); the cameras are aligned "

@@ -11,8 +11,10 @@
 
 #include "aggregator/calibration/calibration_publisher.h"
 #include "aggregator/ingest/still_views.h"
+#include "aggregator/live/live_report.h"
 #include "aggregator/live/recent_contours.h"
 #include "aggregator/live/recent_silhouettes.h"
+#include "aggregator/live/service_control.h"
 #include "shared/io/calibration_yaml.h"
 #include "shared/util/check.h"
 
@@ -69,10 +71,11 @@ const char* ToString(Stage stage) {
 class LiveJob {
  public:
   LiveJob(const LiveJobOptions& options, const std::function<bool()>& stop,
-          const std::function<bool()>& recalibrate)
+          const std::function<bool()>& recalibrate, const std::function<bool()>& stills_asked)
       : options_(options),
         stop_(stop),
         recalibrate_(recalibrate),
+        stills_asked_(stills_asked),
         contours_(options.output / "session" / "sessions"),
         ingest_(IngestOptionsFor(options, &recent_, &contours_)),
         watch_(
@@ -84,7 +87,7 @@ class LiveJob {
         calibration_frames_(options.calibrate_after_frames) {}
 
   LiveJobResult Run() {
-    const auto start = Clock::now();
+    const auto start = started_;
     ingest_.Open();
     participant_ = std::make_unique<dds::Participant>(options_.domain);
     spdlog::info("live: ingesting into {} ({}); calibrating once every camera has {} frames",
@@ -139,6 +142,7 @@ class LiveJob {
       }
     }
     Cancel();
+    AnswerOpenStillsRequests();
     watch_.Stop();
     result_.camera_moves = watch_.events();
     result_.motion_checks = watch_.checks();
@@ -386,8 +390,9 @@ class LiveJob {
 
   // The stills stage with the calibration in use; `instant_s` >= 0 names the reference
   // instant of the stills (else each node's next frame).
-  StillsStageConfig StillsConfig(double instant_s) const {
+  StillsStageConfig StillsConfig(double instant_s, bool stereo = true) const {
     StillsStageConfig config;
+    config.stereo = stereo;
     config.cameras = hull_cameras_;
     config.output = options_.output / "stills";
     config.truth = options_.stills_truth;
@@ -401,11 +406,12 @@ class LiveJob {
     return config;
   }
 
-  // Keeps the stage's outcome, its warnings and failure.
-  void KeepStills(StillsStageResult stills) {
+  // Keeps the stage's outcome and its warnings; its failure fails the job unless a service
+  // request asked for the stills (its asker is told instead).
+  void KeepStills(StillsStageResult stills, bool requested = false) {
     for (const std::string& warning : stills.warnings)
       spdlog::warn("live: {}", warning);
-    if (!stills.failure.empty() && result_.failure.empty())
+    if (!requested && !stills.failure.empty() && result_.failure.empty())
       result_.failure = "stills: " + stills.failure;
     result_.stills = std::move(stills);
   }
@@ -425,28 +431,102 @@ class LiveJob {
     }
   }
 
-  // With stills_at_s: starts the stills of that instant once a calibration is in use, in the
-  // background, and keeps their outcome when they are done.
+  // Starts the stills stage in the background; `request` names the service request it
+  // answers (empty for --stills-at).
+  void StartStills(const StillsStageConfig& config, const std::string& request) {
+    stills_request_ = request;
+    stills_progress_ =
+        std::make_unique<Progress>("stills", 0, ConsoleProgressPrinter(), std::chrono::seconds(5));
+    stills_future_ = std::async(std::launch::async, [config, progress = stills_progress_.get()] {
+      return RunStillsStage(config, progress);
+    });
+  }
+
+  // Stills of an instant (--stills-at) once a calibration is in use, stills asked for by the
+  // service command (one stage at a time, the newest request waiting for a running one), and
+  // the outcome of a stage that has finished: kept for the report, answered to the asker, and
+  // in the report at once when the job runs as a service.
   void AdvanceStills() {
-    if (options_.stills_at_s < 0) return;
-    if (!stills_started_ && !hull_cameras_.empty()) {
+    if (stills_asked_()) TakeNewStillsRequest();
+    if (options_.stills_at_s >= 0 && !stills_started_ && !hull_cameras_.empty() &&
+        !StillsRunning()) {
       stills_started_ = true;
       spdlog::info("live: asking the {} calibrated cameras for stills of {:.2f} s",
                    hull_cameras_.size(), options_.stills_at_s);
-      stills_progress_ = std::make_unique<Progress>("stills", 0, ConsoleProgressPrinter(),
-                                                    std::chrono::seconds(5));
-      stills_future_ = std::async(std::launch::async, [config = StillsConfig(options_.stills_at_s),
-                                                       progress = stills_progress_.get()] {
-        return RunStillsStage(config, progress);
-      });
+      StartStills(StillsConfig(options_.stills_at_s), "");
     }
-    if (Ready(stills_future_)) {
+    if (pending_stills_ && !StillsRunning() && !hull_cameras_.empty()) {
+      const StillsRequest request = *std::exchange(pending_stills_, std::nullopt);
+      spdlog::info("live: stills asked for: asking the {} calibrated cameras{}",
+                   hull_cameras_.size(),
+                   request.at_s >= 0 ? fmt::format(" for stills of {:.2f} s", request.at_s) : "");
+      std::error_code ignored;
+      std::filesystem::remove_all(options_.output / "stills", ignored);
+      StartStills(StillsConfig(request.at_s, request.stereo), request.id);
+      Answer(request.id, "running",
+             "collecting the stills into " + (options_.output / "stills").string() + "\n");
+    }
+    if (!Ready(stills_future_)) return;
+    const std::string request = std::exchange(stills_request_, std::string());
+    try {
+      KeepStills(stills_future_.get(), !request.empty());
+    } catch (const std::exception& e) {
+      if (request.empty() && result_.failure.empty())
+        result_.failure = fmt::format("stills failed: {}", e.what());
+      if (!request.empty()) Answer(request, "failed", fmt::format("stills failed: {}\n", e.what()));
+      return;
+    }
+    if (options_.serve) {
       try {
-        KeepStills(stills_future_.get());
-      } catch (const std::exception& e) {
-        if (result_.failure.empty()) result_.failure = fmt::format("stills failed: {}", e.what());
+        WriteLiveReport(options_.output, Snapshot());
+      } catch (const InputError& e) {
+        spdlog::warn("live: cannot rewrite the report with the stills: {}", e.what());
       }
     }
+    if (!request.empty()) {
+      const bool failed = !result_.stills->failure.empty();
+      Answer(request, failed ? "failed" : "done", StillsSummary(*result_.stills));
+    }
+  }
+
+  // Reads a request the service command left; a newer one replaces one still waiting.
+  void TakeNewStillsRequest() {
+    std::optional<StillsRequest> request = TakeStillsRequest(options_.output);
+    if (!request) return;
+    if (pending_stills_)
+      Answer(pending_stills_->id, "failed", "replaced by a later request before it started\n");
+    pending_stills_ = std::move(request);
+    if (hull_cameras_.empty() || StillsRunning()) {
+      Answer(pending_stills_->id, "waiting",
+             hull_cameras_.empty() ? "waiting for the first calibration\n"
+                                   : "waiting for the stills being taken to be done\n");
+    }
+  }
+
+  // Tells the asker of `request` where it stands (a failure to write is logged: the job goes on).
+  void Answer(const std::string& request, const std::string& state, const std::string& text) {
+    try {
+      WriteStillsAnswer(options_.output, StillsAnswer{request, state, text});
+    } catch (const InputError& e) {
+      spdlog::warn("live: cannot answer stills request {}: {}", request, e.what());
+    }
+  }
+
+  // The job is ending: requests not done are answered as such.
+  void AnswerOpenStillsRequests() {
+    if (!stills_request_.empty())
+      Answer(stills_request_, "failed", "the live job stopped before the stills were done\n");
+    if (pending_stills_)
+      Answer(pending_stills_->id, "failed", "the live job stopped before taking the stills\n");
+  }
+
+  // The result so far, for a report while the job goes on.
+  LiveJobResult Snapshot() const {
+    LiveJobResult snapshot = result_;
+    snapshot.cameras = ingest_.Status();
+    snapshot.ingest = ingest_.Totals();
+    snapshot.seconds = SecondsSince(started_);
+    return snapshot;
   }
 
   // Stills asked for at an instant are being collected or reconstructed.
@@ -600,6 +680,8 @@ class LiveJob {
   const LiveJobOptions& options_;
   std::function<bool()> stop_;
   std::function<bool()> recalibrate_;
+  std::function<bool()> stills_asked_;
+  Clock::time_point started_ = Clock::now();
   int recalibration_first_ = 0;
   RecentSilhouettes recent_;  // before ingest_, which feeds it
   RecentContours contours_;   // the same; outlives the hull batch reading it
@@ -621,6 +703,8 @@ class LiveJob {
   std::future<CalibrateJobResult> calibration_future_;
   std::future<HullSequenceResult> hulls_future_;
   bool stills_started_ = false;
+  std::optional<StillsRequest> pending_stills_;  // asked for by the service command
+  std::string stills_request_;  // the request the running stage answers ("" for --stills-at)
   std::unique_ptr<Progress> stills_progress_;
   std::future<StillsStageResult> stills_future_;
   LiveJobResult result_;
@@ -629,12 +713,13 @@ class LiveJob {
 }  // namespace
 
 LiveJobResult RunLiveJob(const LiveJobOptions& options, const std::function<bool()>& stop,
-                         const std::function<bool()>& recalibrate) {
+                         const std::function<bool()>& recalibrate,
+                         const std::function<bool()>& stills_asked) {
   if (options.calibrate_after_frames < 10)
     throw InputError("the calibration needs at least 10 frames per camera");
   if (options.hull_frames < 0) throw InputError("the number of hull frames must not be negative");
   std::filesystem::create_directories(options.output);
-  LiveJob job(options, stop, recalibrate);
+  LiveJob job(options, stop, recalibrate, stills_asked);
   return job.Run();
 }
 

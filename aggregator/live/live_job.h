@@ -79,10 +79,14 @@ struct LiveJobResult {
 // Runs the job until it is done, `stop()` returns true, or the streams stay silent for
 // give_up_s while it waits for frames. Once the first calibration is done, `recalibrate()`
 // returning true starts a new calibration on the newest calibrate_after_frames frames of every
-// camera, published when it places every camera the last one did. Throws InputError/DdsError if the
-// store or DDS cannot be opened.
+// camera, published when it places every camera the last one did. `stills_asked()` returning
+// true means a stills request waits in the output folder (service_control.h): the job takes
+// those stills with the calibration in use (once there is one; one request at a time) into
+// <output>/stills, answers the request, and as a service rewrites its report with the model.
+// Throws InputError/DdsError if the store or DDS cannot be opened.
 LiveJobResult RunLiveJob(
     const LiveJobOptions& options, const std::function<bool()>& stop,
-    const std::function<bool()>& recalibrate = [] { return false; });
+    const std::function<bool()>& recalibrate = [] { return false; },
+    const std::function<bool()>& stills_asked = [] { return false; });
 
 }  // namespace silnet::aggregator

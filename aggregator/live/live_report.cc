@@ -338,20 +338,23 @@ std::string LiveSummary(const std::filesystem::path& out, const LiveJobResult& r
         r.hulls->AllClosedManifold() ? "all " : "not all ", 100 * r.hulls->MeanMissed(),
         100 * r.hulls->MeanSpurious());
   }
-  if (r.stills) {
-    const StillsStageResult& s = *r.stills;
-    text += fmt::format("  stills       {} of {} cameras, {} usable\n", s.collection.complete(),
-                        s.collection.cameras.size(), s.views);
-    if (s.stereo && s.stereo->success) {
-      text += fmt::format(
-          "  stereo       {} triangles, {}closed, {:.1f} s{}\n", s.stereo->model.triangles,
-          s.stereo->model.closed_manifold ? "" : "not ", s.stereo->seconds.total,
-          s.stereo->model.evaluation ? "; vs truth " + s.stereo->model.evaluation->Brief()
-                                     : std::string());
-    }
-  }
+  if (r.stills) text += StillsSummary(*r.stills);
   if (!r.failure.empty()) text += "  FAILED       " + r.failure + "\n";
   text += fmt::format("  report       {}\n", (out / "report.html").string());
+  return text;
+}
+
+std::string StillsSummary(const StillsStageResult& s) {
+  std::string text = fmt::format("  stills       {} of {} cameras, {} usable\n",
+                                 s.collection.complete(), s.collection.cameras.size(), s.views);
+  if (s.stereo && s.stereo->success) {
+    text += fmt::format(
+        "  stereo       {} triangles, {}closed, {:.1f} s{}\n", s.stereo->model.triangles,
+        s.stereo->model.closed_manifold ? "" : "not ", s.stereo->seconds.total,
+        s.stereo->model.evaluation ? "; vs truth " + s.stereo->model.evaluation->Brief()
+                                   : std::string());
+  }
+  if (!s.failure.empty()) text += fmt::format("  no model     {}\n", s.failure);
   return text;
 }
 

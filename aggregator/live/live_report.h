@@ -18,4 +18,8 @@ void WriteLiveReport(const std::filesystem::path& out, const LiveJobResult& resu
 // known, where the files are.
 std::string LiveSummary(const std::filesystem::path& out, const LiveJobResult& result);
 
+// The stills and stereo lines of that summary: how many cameras answered, the model and its
+// errors against the truth when known, and why there is no model if there is none.
+std::string StillsSummary(const StillsStageResult& stills);
+
 }  // namespace silnet::aggregator

@@ -2,11 +2,14 @@
 
 #include <fmt/format.h>
 #include <signal.h>
+#include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <opencv2/core.hpp>
 
 #include "shared/util/check.h"
@@ -32,6 +35,31 @@ cv::FileStorage ReadStatus(const std::filesystem::path& path) {
     fs.release();
   }
   return fs;
+}
+
+std::filesystem::path StillsRequestPath(const std::filesystem::path& output) {
+  return output / "stills_request.yaml";
+}
+
+std::filesystem::path StillsAnswerPath(const std::filesystem::path& output) {
+  return output / "stills_answer.yaml";
+}
+
+// Writes a YAML file beside `path` with `write` and renames it over `path`, so a reader never
+// sees half of it. Throws InputError if it cannot be written.
+void ReplaceYaml(const std::filesystem::path& path,
+                 const std::function<void(cv::FileStorage&)>& write) {
+  const std::filesystem::path partial = path.string() + ".partial";
+  try {
+    cv::FileStorage fs(partial.string(), cv::FileStorage::WRITE);
+    if (!fs.isOpened()) throw InputError("cannot write " + partial.string());
+    write(fs);
+  } catch (const cv::Exception& e) {
+    throw InputError(fmt::format("cannot write {}: {}", partial.string(), e.what()));
+  }
+  std::error_code error;
+  std::filesystem::rename(partial, path, error);
+  if (error) throw InputError(fmt::format("cannot write {}: {}", path.string(), error.message()));
 }
 
 std::string NodesText(const cv::FileStorage& ingest) {
@@ -118,6 +146,58 @@ int RequestRecalibration(const std::filesystem::path& output) {
     throw InputError(
         fmt::format("cannot signal the live job (process {}): {}", *pid, std::strerror(errno)));
   return *pid;
+}
+
+int RequestStills(const std::filesystem::path& output, const StillsRequest& request) {
+  const std::optional<int> pid = RunningLiveJob(output);
+  if (!pid) {
+    throw InputError("no live job runs in " + output.string() +
+                     " (give --calib to ask the nodes without one, or start one with "
+                     "`silnet-aggregator live -o " +
+                     output.string() + " --serve`)");
+  }
+  ReplaceYaml(StillsRequestPath(output), [&](cv::FileStorage& fs) {
+    fs << "id" << request.id << "at_s" << request.at_s << "stereo"
+       << static_cast<int>(request.stereo);
+  });
+  if (kill(*pid, SIGUSR1) != 0)
+    throw InputError(
+        fmt::format("cannot signal the live job (process {}): {}", *pid, std::strerror(errno)));
+  return *pid;
+}
+
+std::optional<StillsRequest> TakeStillsRequest(const std::filesystem::path& output) {
+  const std::filesystem::path path = StillsRequestPath(output);
+  const cv::FileStorage fs = ReadStatus(path);
+  std::error_code ignored;
+  std::filesystem::remove(path, ignored);
+  if (!fs.isOpened()) return std::nullopt;
+  StillsRequest request;
+  request.id = static_cast<std::string>(fs["id"]);
+  request.at_s = fs["at_s"].empty() ? -1.0 : static_cast<double>(fs["at_s"]);
+  request.stereo = fs["stereo"].empty() || static_cast<int>(fs["stereo"]) != 0;
+  if (request.id.empty() || !std::isfinite(request.at_s)) {
+    spdlog::warn("live: ignoring an unreadable stills request in {}", path.string());
+    return std::nullopt;
+  }
+  return request;
+}
+
+void WriteStillsAnswer(const std::filesystem::path& output, const StillsAnswer& answer) {
+  ReplaceYaml(StillsAnswerPath(output), [&](cv::FileStorage& fs) {
+    fs << "id" << answer.id << "state" << answer.state << "text" << answer.text;
+  });
+}
+
+std::optional<StillsAnswer> ReadStillsAnswer(const std::filesystem::path& output) {
+  const cv::FileStorage fs = ReadStatus(StillsAnswerPath(output));
+  if (!fs.isOpened()) return std::nullopt;
+  StillsAnswer answer;
+  answer.id = static_cast<std::string>(fs["id"]);
+  answer.state = static_cast<std::string>(fs["state"]);
+  answer.text = static_cast<std::string>(fs["text"]);
+  if (answer.id.empty()) return std::nullopt;
+  return answer;
 }
 
 std::string LiveStatusText(const std::filesystem::path& output) {

@@ -8,8 +8,9 @@
 // the published calibration, no camera may be reported moved, every still must arrive whole
 // and the model must be closed and nearer the statue's true surface than its hull. As a service
 // (--serve) it notices a camera knocked out of place mid-run, re-estimates it and publishes
-// the corrected calibration, shows its state through `silnet-aggregator status`, and
-// recalibrates on the newest frames when `silnet-aggregator recalibrate` asks.
+// the corrected calibration, shows its state through `silnet-aggregator status`,
+// recalibrates on the newest frames when `silnet-aggregator recalibrate` asks, and takes stills
+// when `silnet-aggregator stills` asks (before the first calibration too: they wait for it).
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -224,7 +225,25 @@ bool Eventually(const std::function<bool()>& done, std::chrono::seconds timeout)
   return true;
 }
 
-TEST(LiveJob, AsAServiceItReestimatesAMovedCameraAndRecalibratesWhenAsked) {
+// The state of the live job's answer to the last stills request in `out` ("" if none yet).
+std::string StillsAnswerState(const std::filesystem::path& out) {
+  if (!std::filesystem::exists(out / "stills_answer.yaml")) return "";
+  cv::FileStorage answer((out / "stills_answer.yaml").string(), cv::FileStorage::READ);
+  return answer.isOpened() ? static_cast<std::string>(answer["state"]) : "";
+}
+
+// Frames the live job in `out` holds from all cameras, by its status file (0 if none yet).
+double FramesHeld(const std::filesystem::path& out) {
+  const std::filesystem::path path = out / "session/ingest_summary.yaml";
+  if (!std::filesystem::exists(path)) return 0.0;
+  cv::FileStorage status(path.string(), cv::FileStorage::READ);
+  double held = 0.0;
+  for (const cv::FileNode& camera : status["cameras"])
+    held += static_cast<double>(camera["frames_held"]);
+  return held;
+}
+
+TEST(LiveJob, AsAServiceItReestimatesAMovedCameraRecalibratesAndTakesStillsWhenAsked) {
   testing::TempDir work;
   // cam03 pans 2 degrees and shifts 5 cm sideways at frame 560.
   const std::filesystem::path dataset =
@@ -237,12 +256,20 @@ TEST(LiveJob, AsAServiceItReestimatesAMovedCameraAndRecalibratesWhenAsked) {
        "--hull-frames", "0", "--ground-truth", (dataset / "ground_truth.yaml").string()},
       work.path());
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  testing::ChildProcess nodes = StartMaskNodes(work, dataset, 5);
-  ASSERT_EQ(nodes.Wait(seconds(120)), std::optional<int>(0)) << nodes.Stderr();
+  // Stills asked for before there is a calibration wait for it. The nodes stay for them.
+  testing::ChildProcess early(kBin / "aggregator/silnet-aggregator",
+                              {"stills", out.string(), "--no-stereo", "--no-wait"}, work.path());
+  ASSERT_EQ(early.Wait(seconds(30)), std::optional<int>(0)) << early.Stderr();
+  testing::ChildProcess nodes = StartMaskNodes(work, dataset, 600);
+  ASSERT_TRUE(Eventually([&] { return StillsAnswerState(out) == "waiting"; }, seconds(60)));
   ASSERT_TRUE(Eventually(
       [&] { return live.Stderr().find("live: calibration published") != std::string::npos; },
       seconds(400)))
       << live.Stderr();
+  ASSERT_TRUE(Eventually([&] { return StillsAnswerState(out) == "done"; }, seconds(120)))
+      << live.Stderr();
+  // Every frame has arrived before the operator asks for anything else.
+  ASSERT_TRUE(Eventually([&] { return FramesHeld(out) == 8 * 1000.0; }, seconds(300)));
   ASSERT_TRUE(Eventually(
       [&] {
         return live.Stderr().find("live: calibration with cam03 re-estimated published") !=
@@ -267,8 +294,28 @@ TEST(LiveJob, AsAServiceItReestimatesAMovedCameraAndRecalibratesWhenAsked) {
       seconds(400)))
       << live.Stderr();
   EXPECT_NE(live.Stderr().find("recalibrating on frames 600..999"), std::string::npos);
+  // `stills` asks the running job for stills with the calibration in use and follows its
+  // answer; the job rewrites its report with them while it goes on.
+  std::filesystem::remove(out / "report.html");
+  testing::ChildProcess stills(kBin / "aggregator/silnet-aggregator",
+                               {"stills", out.string(), "--no-stereo"}, work.path());
+  ASSERT_EQ(stills.Wait(seconds(180)), std::optional<int>(0)) << stills.Stdout() << live.Stderr();
+  EXPECT_NE(stills.Stdout().find("stills: running"), std::string::npos) << stills.Stdout();
+  EXPECT_NE(stills.Stdout().find("stills: done"), std::string::npos) << stills.Stdout();
+  EXPECT_NE(stills.Stdout().find("8 of 8 cameras, 8 usable"), std::string::npos) << stills.Stdout();
+  cv::FileStorage collected((out / "stills/stills.yaml").string(), cv::FileStorage::READ);
+  ASSERT_TRUE(collected.isOpened());
+  EXPECT_EQ(collected["cameras"].size(), 8u);
+  for (const cv::FileNode& camera : collected["cameras"])
+    EXPECT_EQ(static_cast<int>(camera["complete"]), 1) << static_cast<std::string>(camera["id"]);
+  std::ifstream report(out / "report.html");
+  const std::string page((std::istreambuf_iterator<char>(report)), {});
+  EXPECT_NE(page.find("Stills and stereo model"), std::string::npos);
+  EXPECT_EQ(page.find("no stills asked for"), std::string::npos);
   live.Signal(SIGTERM);
   ASSERT_EQ(live.Wait(seconds(60)), std::optional<int>(0)) << live.Stderr();
+  nodes.Signal(SIGTERM);
+  ASSERT_EQ(nodes.Wait(seconds(60)), std::optional<int>(0)) << nodes.Stderr();
   std::printf("%s", live.Stdout().c_str());
   cv::FileStorage summary((out / "live_summary.yaml").string(), cv::FileStorage::READ);
   ASSERT_TRUE(summary.isOpened());
@@ -309,6 +356,10 @@ TEST(LiveJob, ServiceCommandsSayWhyWhenNoJobRunsThere) {
   EXPECT_EQ(recalibrate.Wait(seconds(30)), std::optional<int>(2));
   EXPECT_NE(recalibrate.Stderr().find("no live job runs in"), std::string::npos)
       << recalibrate.Stderr();
+  testing::ChildProcess stills(kBin / "aggregator/silnet-aggregator",
+                               {"stills", (work / "nothing").string()}, work.path());
+  EXPECT_EQ(stills.Wait(seconds(30)), std::optional<int>(2));
+  EXPECT_NE(stills.Stderr().find("no live job runs in"), std::string::npos) << stills.Stderr();
   // A pid file left by a job that died.
   std::filesystem::create_directories(work / "dead/session");
   std::ofstream(work / "dead/live.pid") << 999999999 << "\n";
