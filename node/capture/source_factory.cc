@@ -119,6 +119,7 @@ std::unique_ptr<CaptureSource> MakeCaptureSource(const SourceDescription& d,
     } else if (o.pixel_format != "auto") {
       throw InputError("pixel format must be yuyv, mjpeg or auto, not '" + o.pixel_format + "'");
     }
+    v.full_resolution_stills = !o.video_stills;
     return std::make_unique<V4l2Source>(v);
   }
   if (d.kind == "libcamera") {

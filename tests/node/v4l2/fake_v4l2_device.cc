@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
@@ -57,6 +58,12 @@ FakeYuv FakeYuyvPixel(int x, int y, uint64_t tick) {
 }
 
 FakeV4l2Device::FakeV4l2Device(FakeV4l2Config config) : config_(std::move(config)) {
+  for (const auto& [pixel_format, sizes] : config_.frame_sizes) {
+    for (const FakeFrameSizes& entry : sizes) {
+      if (entry.type != V4L2_FRMSIZE_TYPE_DISCRETE && sizes.size() != 1)
+        throw std::invalid_argument("a stepwise or continuous frame-size range must be alone");
+    }
+  }
   timespec now{};
   clock_gettime(CLOCK_MONOTONIC, &now);
   monotonic_base_ns_ = static_cast<int64_t>(now.tv_sec) * 1000000000LL + now.tv_nsec;
@@ -112,7 +119,7 @@ void FakeV4l2Device::ResetDriver() {
   format.fmt.pix.width = 640;
   format.fmt.pix.height = 480;
   format.fmt.pix.pixelformat = config_.pixel_formats.front();
-  SetFormat(&format);
+  SetFormat(&format, /*refusable=*/false);
 }
 
 int FakeV4l2Device::Open(const std::string& path, int flags) {
@@ -160,6 +167,8 @@ int FakeV4l2Device::Ioctl(int fd, unsigned long request, void* arg) {
     case VIDIOC_QUERYCAP:
       return QueryCap(static_cast<v4l2_capability*>(arg));
     case VIDIOC_S_FMT:
+      // vb2: the format cannot change while the queue has buffers (streaming or not).
+      if (streaming_) return Violation("VIDIOC_S_FMT while streaming", EBUSY);
       if (!buffers_.empty()) return Violation("VIDIOC_S_FMT while buffers are allocated", EBUSY);
       return SetFormat(static_cast<v4l2_format*>(arg));
     case VIDIOC_G_FMT:
@@ -168,6 +177,8 @@ int FakeV4l2Device::Ioctl(int fd, unsigned long request, void* arg) {
       return SetParm(static_cast<v4l2_streamparm*>(arg));
     case VIDIOC_G_PARM:
       return GetParm(static_cast<v4l2_streamparm*>(arg));
+    case VIDIOC_ENUM_FRAMESIZES:
+      return EnumFrameSizes(static_cast<v4l2_frmsizeenum*>(arg));
     case VIDIOC_REQBUFS:
       return RequestBuffers(fd, static_cast<v4l2_requestbuffers*>(arg));
     case VIDIOC_QUERYBUF:
@@ -197,20 +208,21 @@ int FakeV4l2Device::QueryCap(v4l2_capability* capability) {
   return 0;
 }
 
-int FakeV4l2Device::SetFormat(v4l2_format* format) {
+int FakeV4l2Device::SetFormat(v4l2_format* format, bool refusable) {
   if (format->type != V4L2_BUF_TYPE_VIDEO_CAPTURE)
     return Violation("VIDIOC_S_FMT with a buffer type other than video capture", EINVAL);
   v4l2_pix_format& pix = format->fmt.pix;
   const auto& formats = config_.pixel_formats;
   if (std::find(formats.begin(), formats.end(), pix.pixelformat) == formats.end())
     pix.pixelformat = formats.front();
-  int width = std::clamp(static_cast<int>(pix.width), 16, config_.max_width);
-  int height = std::clamp(static_cast<int>(pix.height), 16, config_.max_height);
-  if (config_.forced_size) {
-    width = config_.forced_size->width;
-    height = config_.forced_size->height;
-  }
-  width &= ~1;
+  const cv::Size granted = GrantedSize(
+      pix.pixelformat, cv::Size(static_cast<int>(std::min<uint32_t>(pix.width, 1 << 20)),
+                                static_cast<int>(std::min<uint32_t>(pix.height, 1 << 20))));
+  if (refusable && std::find(config_.refused_sizes.begin(), config_.refused_sizes.end(), granted) !=
+                       config_.refused_sizes.end())
+    return Fail(EIO);
+  const int width = granted.width;
+  const int height = granted.height;
   pix.width = static_cast<uint32_t>(width);
   pix.height = static_cast<uint32_t>(height);
   pix.field = V4L2_FIELD_NONE;
@@ -224,6 +236,62 @@ int FakeV4l2Device::SetFormat(v4l2_format* format) {
   }
   format_ = pix;
   fps_ = std::min(fps_ > 0.0 ? fps_ : config_.default_fps, HighestFps(pix.pixelformat));
+  return 0;
+}
+
+cv::Size FakeV4l2Device::GrantedSize(uint32_t pixel_format, cv::Size asked) const {
+  if (config_.forced_size) return {config_.forced_size->width & ~1, config_.forced_size->height};
+  const auto listed = config_.frame_sizes.find(pixel_format);
+  if (listed == config_.frame_sizes.end() || listed->second.empty()) {
+    return {std::clamp(asked.width, 16, config_.max_width) & ~1,
+            std::clamp(asked.height, 16, config_.max_height)};
+  }
+  const std::vector<FakeFrameSizes>& sizes = listed->second;
+  if (sizes.front().type != V4L2_FRMSIZE_TYPE_DISCRETE) {
+    const FakeFrameSizes& range = sizes.front();
+    const auto nearest = [](int value, int min, int max, int step) {
+      const int clamped = std::clamp(value, min, max);
+      const int k = static_cast<int>(std::lround(static_cast<double>(clamped - min) / step));
+      return std::min(min + k * step, min + (max - min) / step * step);
+    };
+    return {nearest(asked.width, range.min.width, range.max.width, range.step.width),
+            nearest(asked.height, range.min.height, range.max.height, range.step.height)};
+  }
+  // uvcvideo's choice: the least area outside the intersection of asked and offered.
+  cv::Size best;
+  int64_t best_distance = INT64_MAX;
+  for (const FakeFrameSizes& entry : sizes) {
+    const int64_t w = entry.min.width, h = entry.min.height;
+    const int64_t common = std::min<int64_t>(w, asked.width) * std::min<int64_t>(h, asked.height);
+    const int64_t distance = w * h + int64_t{asked.width} * asked.height - 2 * common;
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = entry.min;
+    }
+  }
+  return best;
+}
+
+int FakeV4l2Device::EnumFrameSizes(v4l2_frmsizeenum* entry) {
+  if (config_.frame_sizes.empty()) return Fail(ENOTTY);
+  const auto& formats = config_.pixel_formats;
+  const auto listed = config_.frame_sizes.find(entry->pixel_format);
+  if (std::find(formats.begin(), formats.end(), entry->pixel_format) == formats.end() ||
+      listed == config_.frame_sizes.end() || entry->index >= listed->second.size())
+    return Fail(EINVAL);
+  const FakeFrameSizes& sizes = listed->second[entry->index];
+  entry->type = sizes.type;
+  if (sizes.type == V4L2_FRMSIZE_TYPE_DISCRETE) {
+    entry->discrete.width = static_cast<uint32_t>(sizes.min.width);
+    entry->discrete.height = static_cast<uint32_t>(sizes.min.height);
+  } else {
+    entry->stepwise.min_width = static_cast<uint32_t>(sizes.min.width);
+    entry->stepwise.max_width = static_cast<uint32_t>(sizes.max.width);
+    entry->stepwise.step_width = static_cast<uint32_t>(sizes.step.width);
+    entry->stepwise.min_height = static_cast<uint32_t>(sizes.min.height);
+    entry->stepwise.max_height = static_cast<uint32_t>(sizes.max.height);
+    entry->stepwise.step_height = static_cast<uint32_t>(sizes.step.height);
+  }
   return 0;
 }
 
@@ -349,7 +417,8 @@ int FakeV4l2Device::DequeueBuffer(v4l2_buffer* buffer) {
   buffer->sequence = b.sequence;
   buffer->m.offset = b.offset;
   buffer->length = static_cast<uint32_t>(b.memory->size());
-  deliveries_.push_back(FakeV4l2Delivery{b.tick, b.sequence, b.bytesused, index, b.kind});
+  deliveries_.push_back(
+      FakeV4l2Delivery{b.tick, b.sequence, b.bytesused, index, b.kind, b.size, b.pixel_format});
   return 0;
 }
 
@@ -360,6 +429,7 @@ int FakeV4l2Device::StreamOn(const int* type) {
   ++streamon_calls_;
   streaming_ = true;
   sequence_ = config_.first_sequence;
+  tick_ += config_.streamon_periods;
   return 0;
 }
 
@@ -427,8 +497,12 @@ int FakeV4l2Device::Poll(int fd, int timeout_ms) {
     return POLLERR;
   }
   if (pending_loss_errno_ != 0 || !done_.empty()) return POLLIN | POLLRDNORM;
-  if (next_step_ >= config_.script.size()) return 0;
-  const FakeV4l2Step step = config_.script[next_step_++];
+  FakeV4l2Step step = FakeV4l2Step::Frame();
+  if (next_step_ < config_.script.size()) {
+    step = config_.script[next_step_++];
+  } else if (!config_.frames_after_script) {
+    return 0;
+  }
   switch (step.kind) {
     case FakeV4l2Step::Kind::kNoFrame:
       return 0;
@@ -519,6 +593,8 @@ void FakeV4l2Device::Produce(const FakeV4l2Step& step) {
   b.sequence = sequence_;
   b.tick = tick_;
   b.kind = step.kind;
+  b.size = cv::Size(width, height);
+  b.pixel_format = format_.pixelformat;
   b.state = BufferState::kDone;
   done_.push_back(index);
 }

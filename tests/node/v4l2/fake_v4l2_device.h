@@ -2,9 +2,9 @@
 // A scripted stand-in for a V4L2 camera driver, for testing V4l2Source without cameras. It
 // answers the ioctls of memory-mapped capture like a driver does (granting its own size, rate
 // and buffer count when it must), keeps real memory behind the mapped buffers, produces the
-// frames of a script (YUYV or Motion-JPEG payloads, sequence gaps, error-flagged buffers,
-// corrupt JPEG, an unplugged device coming back), and records every violation of the V4L2
-// protocol by its caller.
+// frames of a script (YUYV or Motion-JPEG payloads at the size set now, sequence gaps,
+// error-flagged buffers, corrupt JPEG, an unplugged device coming back), enumerates the frame
+// sizes of a camera, and records every violation of the V4L2 protocol by its caller.
 
 #include <linux/videodev2.h>
 
@@ -52,6 +52,25 @@ struct FakeV4l2Step {
   uint64_t away_periods = 0;
 };
 
+// One VIDIOC_ENUM_FRAMESIZES entry: a discrete size, or a range min + k * step per axis.
+struct FakeFrameSizes {
+  static FakeFrameSizes Discrete(int width, int height) {
+    return {V4L2_FRMSIZE_TYPE_DISCRETE, {width, height}, {width, height}, {1, 1}};
+  }
+  static FakeFrameSizes Stepwise(cv::Size min, cv::Size max, cv::Size step) {
+    return {V4L2_FRMSIZE_TYPE_STEPWISE, min, max, step};
+  }
+  // Every size from min to max (step 1).
+  static FakeFrameSizes Continuous(cv::Size min, cv::Size max) {
+    return {V4L2_FRMSIZE_TYPE_CONTINUOUS, min, max, {1, 1}};
+  }
+
+  uint32_t type = V4L2_FRMSIZE_TYPE_DISCRETE;
+  cv::Size min;
+  cv::Size max;
+  cv::Size step{1, 1};
+};
+
 // The simulated device and its driver.
 struct FakeV4l2Config {
   std::string path = "/dev/video0";
@@ -61,9 +80,19 @@ struct FakeV4l2Config {
   uint32_t capabilities = V4L2_CAP_VIDEO_CAPTURE | V4L2_CAP_STREAMING;
   // Pixel formats the driver supports; it falls back to the first for any other.
   std::vector<uint32_t> pixel_formats = {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_MJPEG};
-  // Largest frame size; larger requests are clamped.
+  // Largest frame size; larger requests are clamped (without frame_sizes).
   int max_width = 1920;
   int max_height = 1080;
+  // The frame sizes VIDIOC_ENUM_FRAMESIZES lists per pixel format (a stepwise or continuous
+  // range must be the only entry); S_FMT grants the listed size nearest to the asked one (as
+  // uvcvideo does) or the range's nearest step. Empty: the driver does not enumerate sizes
+  // (ENOTTY) and S_FMT clamps to max_width x max_height; a format without a list: EINVAL.
+  std::map<uint32_t, std::vector<FakeFrameSizes>> frame_sizes;
+  // VIDIOC_S_FMT fails with EIO when it would grant one of these sizes (a mode the camera
+  // refuses); the format stays as it was.
+  std::vector<cv::Size> refused_sizes;
+  // Frame periods that pass at each VIDIOC_STREAMON before the first frame (sensor start).
+  uint64_t streamon_periods = 0;
   // When set, the driver grants this size whatever is asked.
   std::optional<cv::Size> forced_size;
   // Extra bytes at the end of every YUYV line (bytesperline = 2 * width + padding).
@@ -83,8 +112,10 @@ struct FakeV4l2Config {
   // Quality of the Motion-JPEG frames. Good frames are followed by (tick mod 4) * 100 zero
   // bytes inside bytesused, as some cameras pad them, so bytesused varies from frame to frame.
   int jpeg_quality = 90;
-  // What happens, one step per frame; after the last step every poll times out.
+  // What happens, one step per frame; after the last step every poll times out, or finds a
+  // good frame when frames_after_script.
   std::vector<FakeV4l2Step> script;
+  bool frames_after_script = false;
 };
 
 // One buffer the caller dequeued.
@@ -94,6 +125,8 @@ struct FakeV4l2Delivery {
   uint32_t bytesused = 0;
   uint32_t buffer = 0;
   FakeV4l2Step::Kind kind = FakeV4l2Step::Kind::kFrame;
+  cv::Size size;              // the frame size it was produced at
+  uint32_t pixel_format = 0;  // and the pixel format
 };
 
 // The colour test pattern of the Motion-JPEG frame at `tick` (CV_8UC3 BGR): blue grows to the
@@ -114,7 +147,9 @@ FakeYuv FakeYuyvPixel(int x, int y, uint64_t tick);
 class FakeV4l2Device : public V4l2Device {
  public:
   // A device that follows `config`; the monotonic clock of its timestamps starts at the
-  // current CLOCK_MONOTONIC instant (tick 0).
+  // current CLOCK_MONOTONIC instant (tick 0); a frame's timestamp is tick 0 plus its tick
+  // times the frame period of the rate set when it is dequeued. Throws std::invalid_argument
+  // for a frame-size list that mixes a range with other entries.
   explicit FakeV4l2Device(FakeV4l2Config config);
   ~FakeV4l2Device() override;
 
@@ -149,8 +184,12 @@ class FakeV4l2Device : public V4l2Device {
   // VIDIOC_STREAMON and VIDIOC_STREAMOFF calls that succeeded.
   int streamon_calls() const { return streamon_calls_; }
   int streamoff_calls() const { return streamoff_calls_; }
-  // The format the driver is set to now.
+  // The format the driver is set to now: pixel format, size and rate.
   uint32_t pixel_format() const { return format_.pixelformat; }
+  cv::Size frame_size() const {
+    return {static_cast<int>(format_.width), static_cast<int>(format_.height)};
+  }
+  double fps() const { return fps_; }
   // Every dequeued buffer, in order.
   const std::vector<FakeV4l2Delivery>& deliveries() const { return deliveries_; }
   // Script steps not used yet.
@@ -168,6 +207,8 @@ class FakeV4l2Device : public V4l2Device {
     uint32_t sequence = 0;
     uint64_t tick = 0;
     FakeV4l2Step::Kind kind = FakeV4l2Step::Kind::kFrame;
+    cv::Size size;
+    uint32_t pixel_format = 0;
   };
 
   struct Mapping {
@@ -182,10 +223,12 @@ class FakeV4l2Device : public V4l2Device {
   static int Fail(int error);
   // The driver's answer to each ioctl.
   int QueryCap(v4l2_capability* capability);
-  int SetFormat(v4l2_format* format);
+  // `refusable`: a size in refused_sizes fails (not when the driver resets itself).
+  int SetFormat(v4l2_format* format, bool refusable = true);
   int GetFormat(v4l2_format* format);
   int SetParm(v4l2_streamparm* parm);
   int GetParm(v4l2_streamparm* parm);
+  int EnumFrameSizes(v4l2_frmsizeenum* entry);
   int RequestBuffers(int fd, v4l2_requestbuffers* request);
   int QueryBuffer(v4l2_buffer* buffer);
   int QueueBuffer(int fd, v4l2_buffer* buffer);
@@ -199,6 +242,8 @@ class FakeV4l2Device : public V4l2Device {
   // Forgets buffers, streaming and format state (a fresh driver instance).
   void ResetDriver();
   double HighestFps(uint32_t pixel_format) const;
+  // The size S_FMT grants for `asked` in `pixel_format`.
+  cv::Size GrantedSize(uint32_t pixel_format, cv::Size asked) const;
   bool AnyBufferMapped() const;
 
   FakeV4l2Config config_;

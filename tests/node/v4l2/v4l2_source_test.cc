@@ -4,15 +4,20 @@
 #include <linux/videodev2.h>
 #include <poll.h>
 
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdlib>
+#include <future>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
+#include "node/capture/source_factory.h"
 #include "tests/node/v4l2/fake_v4l2_device.h"
 
 namespace silnet::node {
@@ -699,6 +704,572 @@ TEST(V4l2Source, RateIsUnknownWithoutFrameRateControl) {
   ASSERT_EQ(ReadOnce(*rig.source, &frame), CaptureStatus::kFrame);
   EXPECT_EQ(frame.frame_index, 2u);
   ExpectCleanProtocol(*rig.fake);
+}
+
+// --- Full-resolution stills ---
+
+using Clock = std::chrono::steady_clock;
+
+// Polls `condition` every millisecond for up to a minute (generous for a busy machine); true
+// once it holds.
+template <typename Condition>
+bool WaitUntil(Condition condition) {
+  const Clock::time_point give_up = Clock::now() + std::chrono::seconds(60);
+  while (!condition()) {
+    if (Clock::now() > give_up) return false;
+    std::this_thread::sleep_for(milliseconds(1));
+  }
+  return true;
+}
+
+// A camera whose video is 64x48: YUYV goes up to 160x120, Motion-JPEG to 320x240 (4:3, the
+// still) and to 432x240 (larger, but 9:5).
+FakeV4l2Config StillCamera() {
+  FakeV4l2Config config;
+  config.frame_sizes[V4L2_PIX_FMT_YUYV] = {FakeFrameSizes::Discrete(64, 48),
+                                           FakeFrameSizes::Discrete(160, 120)};
+  config.frame_sizes[V4L2_PIX_FMT_MJPEG] = {
+      FakeFrameSizes::Discrete(64, 48), FakeFrameSizes::Discrete(160, 120),
+      FakeFrameSizes::Discrete(320, 240), FakeFrameSizes::Discrete(432, 240)};
+  return config;
+}
+
+// SmallOptions() with a still timeout no busy machine reaches.
+V4l2SourceOptions StillOptions() {
+  V4l2SourceOptions options = SmallOptions();
+  options.still_timeout = milliseconds(120000);
+  return options;
+}
+
+// What a TakeStill() call gave.
+struct StillOutcome {
+  std::optional<StillPhoto> still;
+  std::string error;  // the CaptureError's message; "" if none
+};
+
+StillOutcome CallTakeStill(V4l2Source& source) {
+  StillOutcome outcome;
+  try {
+    outcome.still = source.TakeStill(CapturedFrame{});
+  } catch (const CaptureError& e) {
+    outcome.error = e.what();
+  }
+  return outcome;
+}
+
+// A still taken by TakeStill() on another thread and served by one Read() on this one.
+struct ServedStill {
+  StillOutcome outcome;
+  CaptureStatus status = CaptureStatus::kTimeout;  // of the Read() that served it
+  CapturedFrame frame;                             // of that Read()
+};
+
+ServedStill TakeStillServedByRead(V4l2Source& source) {
+  std::future<StillOutcome> taking =
+      std::async(std::launch::async, [&source] { return CallTakeStill(source); });
+  const bool requested = WaitUntil([&] {
+    return source.StillRequested() || taking.wait_for(milliseconds(0)) == std::future_status::ready;
+  });
+  EXPECT_TRUE(requested);
+  ServedStill served;
+  served.status = source.Read(&served.frame, milliseconds(10));
+  served.outcome = taking.get();
+  return served;
+}
+
+// The deliveries of frames of `size`.
+std::vector<FakeV4l2Delivery> DeliveriesOfSize(const FakeV4l2Device& fake, cv::Size size) {
+  std::vector<FakeV4l2Delivery> found;
+  for (const FakeV4l2Delivery& delivery : fake.deliveries()) {
+    if (delivery.size == size) found.push_back(delivery);
+  }
+  return found;
+}
+
+TEST(V4l2SourceStill, TakesTheLargestSameAspectSizeWhileAnotherThreadReads) {
+  FakeV4l2Config config = StillCamera();
+  config.max_fps[V4L2_PIX_FMT_MJPEG] = 15.0;  // the switch lowers the rate; it must come back
+  config.streamon_periods = 2;
+  config.frames_after_script = true;
+  Rig rig = MakeRig(config, StillOptions());
+  rig.source->Open();
+
+  // What the reading thread saw of each Read().
+  struct Seen {
+    CaptureStatus status;
+    uint64_t index;
+    uint64_t tick;  // of the buffer the fake delivered last
+    cv::Size size;
+    int pattern_error;
+  };
+  std::vector<Seen> seen;
+  std::atomic<int> reads{0};
+  std::atomic<bool> still_returned{false};
+  std::thread reader([&] {
+    int reads_after_still = 0;
+    const Clock::time_point give_up = Clock::now() + std::chrono::seconds(120);
+    while (reads_after_still < 5 && Clock::now() < give_up) {
+      const bool after_still = still_returned.load();
+      CapturedFrame frame;
+      const CaptureStatus status = rig.source->Read(&frame, milliseconds(100));
+      const uint64_t tick = rig.fake->deliveries().empty() ? 0 : rig.fake->deliveries().back().tick;
+      const int error = status == CaptureStatus::kFrame && frame.image.size() == cv::Size(64, 48)
+                            ? YuyvPatternError(frame.image, tick)
+                            : -1;
+      seen.push_back(Seen{status, frame.frame_index, tick, frame.image.size(), error});
+      ++reads;
+      if (after_still) ++reads_after_still;
+      std::this_thread::sleep_for(milliseconds(1));
+    }
+  });
+  ASSERT_TRUE(WaitUntil([&] { return reads.load() >= 3; }));
+  const StillOutcome outcome = CallTakeStill(*rig.source);
+  still_returned = true;
+  reader.join();
+
+  ASSERT_TRUE(outcome.error.empty()) << outcome.error;
+  ASSERT_TRUE(outcome.still.has_value());
+  const cv::Mat& photo = outcome.still->photo;
+  ASSERT_EQ(photo.type(), CV_8UC3);
+  ASSERT_EQ(photo.size(), cv::Size(320, 240));
+  EXPECT_TRUE(outcome.still->background.empty());
+  // Three settle frames, then the photo: Motion-JPEG in two buffers.
+  const std::vector<FakeV4l2Delivery> stills = DeliveriesOfSize(*rig.fake, cv::Size(320, 240));
+  ASSERT_EQ(stills.size(), 4u);
+  for (const FakeV4l2Delivery& delivery : stills) {
+    EXPECT_EQ(delivery.pixel_format, V4L2_PIX_FMT_MJPEG);
+    EXPECT_LT(delivery.buffer, 2u);
+  }
+  EXPECT_GT(MjpegPatternPsnr(photo, stills.back().tick), 30.0);
+  EXPECT_LT(MjpegPatternPsnr(photo, stills[2].tick), 25.0);
+
+  // Read() only ever returned video frames; across the still the index jumped by the frame
+  // periods that passed: the still's stream start (2), its 4 frames, the video's start (2).
+  ASSERT_GE(seen.size(), 8u);
+  int jumps = 0;
+  uint64_t jump = 0;
+  for (size_t i = 0; i < seen.size(); ++i) {
+    SCOPED_TRACE(i);
+    ASSERT_EQ(seen[i].status, CaptureStatus::kFrame);
+    ASSERT_EQ(seen[i].size, cv::Size(64, 48));
+    EXPECT_EQ(seen[i].index + 2, seen[i].tick);  // frame 0 came 2 periods after Open()
+    EXPECT_LE(seen[i].pattern_error, 2);
+    if (i == 0) continue;
+    ASSERT_GT(seen[i].index, seen[i - 1].index);
+    if (seen[i].index - seen[i - 1].index > 1) {
+      ++jumps;
+      jump = seen[i].index - seen[i - 1].index;
+    }
+  }
+  EXPECT_EQ(jumps, 1);
+  EXPECT_EQ(jump, 9u);
+  const CaptureCounters counters = rig.source->Counters();
+  EXPECT_EQ(counters.frames, seen.size());
+  EXPECT_EQ(counters.dropped, 8u);
+  EXPECT_EQ(counters.errors, 0u);
+  EXPECT_EQ(counters.reopens, 0u);
+
+  // The video format is back exactly: size, pixel format, rate and buffers.
+  EXPECT_EQ(rig.source->Describe(), "v4l2:/dev/video0 64x48 YUYV 30 fps");
+  EXPECT_EQ(rig.fake->frame_size(), cv::Size(64, 48));
+  EXPECT_EQ(rig.fake->pixel_format(), V4L2_PIX_FMT_YUYV);
+  EXPECT_DOUBLE_EQ(rig.fake->fps(), 30.0);
+  EXPECT_EQ(rig.fake->allocated_buffers(), 4u);
+  EXPECT_EQ(rig.fake->streamon_calls(), 3);
+  EXPECT_FALSE(rig.source->StillRequested());
+  ExpectCleanProtocol(*rig.fake);
+}
+
+TEST(V4l2SourceStill, PrefersMjpegWhenBothFormatsOfferTheLargestSize) {
+  FakeV4l2Config config;
+  for (const uint32_t format : {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_MJPEG})
+    config.frame_sizes[format] = {FakeFrameSizes::Discrete(64, 48),
+                                  FakeFrameSizes::Discrete(320, 240)};
+  config.script = Frames(8);
+  Rig rig = MakeRig(config, StillOptions());
+  rig.source->Open();
+  CapturedFrame frame;
+  ASSERT_EQ(ReadOnce(*rig.source, &frame), CaptureStatus::kFrame);
+
+  const ServedStill served = TakeStillServedByRead(*rig.source);
+  ASSERT_TRUE(served.outcome.error.empty()) << served.outcome.error;
+  ASSERT_TRUE(served.outcome.still.has_value());
+  ASSERT_EQ(served.outcome.still->photo.size(), cv::Size(320, 240));
+  const std::vector<FakeV4l2Delivery> stills = DeliveriesOfSize(*rig.fake, cv::Size(320, 240));
+  ASSERT_EQ(stills.size(), 4u);
+  EXPECT_EQ(stills.back().pixel_format, V4L2_PIX_FMT_MJPEG);
+  EXPECT_GT(MjpegPatternPsnr(served.outcome.still->photo, stills.back().tick), 30.0);
+
+  ASSERT_EQ(served.status, CaptureStatus::kFrame);
+  EXPECT_EQ(served.frame.image.size(), cv::Size(64, 48));
+  EXPECT_EQ(served.frame.frame_index, 5u);  // frame 0, four still frames, then frame 5
+  EXPECT_LE(YuyvPatternError(served.frame.image, 5), 2);
+  EXPECT_EQ(rig.source->Counters().dropped, 4u);
+  ExpectCleanProtocol(*rig.fake);
+}
+
+TEST(V4l2SourceStill, SearchesStepwiseAndContinuousRanges) {
+  struct Case {
+    std::string name;
+    uint32_t format;
+    FakeFrameSizes range;
+    cv::Size expected;
+  };
+  const std::vector<Case> cases = {
+      // 936x700 is 1.337:1, within 1 % of 4:3, and larger than 928x696 (exactly 4:3).
+      {"stepwise YUYV", V4L2_PIX_FMT_YUYV, FakeFrameSizes::Stepwise({32, 24}, {1000, 700}, {8, 4}),
+       cv::Size(936, 700)},
+      {"continuous MJPEG", V4L2_PIX_FMT_MJPEG, FakeFrameSizes::Continuous({16, 16}, {400, 300}),
+       cv::Size(400, 300)},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    FakeV4l2Config config;
+    config.frame_sizes[c.format] = {c.range};
+    // The other format offers a smaller 4:3 size.
+    const uint32_t other = c.format == V4L2_PIX_FMT_YUYV ? V4L2_PIX_FMT_MJPEG : V4L2_PIX_FMT_YUYV;
+    config.frame_sizes[other] = {FakeFrameSizes::Discrete(64, 48),
+                                 FakeFrameSizes::Discrete(320, 240)};
+    config.script = Frames(6);
+    Rig rig = MakeRig(config, StillOptions());
+    rig.source->Open();
+    ASSERT_EQ(rig.source->Format().width, 64);
+    const ServedStill served = TakeStillServedByRead(*rig.source);
+    ASSERT_TRUE(served.outcome.error.empty()) << served.outcome.error;
+    ASSERT_TRUE(served.outcome.still.has_value());
+    const cv::Mat& photo = served.outcome.still->photo;
+    ASSERT_EQ(photo.size(), c.expected);
+    const std::vector<FakeV4l2Delivery> stills = DeliveriesOfSize(*rig.fake, c.expected);
+    ASSERT_EQ(stills.size(), 4u);
+    EXPECT_EQ(stills.back().pixel_format, c.format);
+    if (c.format == V4L2_PIX_FMT_YUYV) {
+      EXPECT_LE(YuyvPatternError(photo, stills.back().tick), 2);
+    } else {
+      EXPECT_GT(MjpegPatternPsnr(photo, stills.back().tick), 30.0);
+    }
+    ASSERT_EQ(served.status, CaptureStatus::kFrame);
+    EXPECT_EQ(served.frame.image.size(), cv::Size(64, 48));
+    ExpectCleanProtocol(*rig.fake);
+  }
+}
+
+TEST(V4l2SourceStill, SkipsAFewBadFramesAtTheStillSize) {
+  FakeV4l2Config config = StillCamera();
+  config.script = {FakeV4l2Step::Frame(),
+                   // The still: one settle frame, two bad ones, the photo.
+                   FakeV4l2Step::Frame(), FakeV4l2Step::Bad(Kind::kErrorFrame),
+                   FakeV4l2Step::Bad(Kind::kCorruptJpeg), FakeV4l2Step::Frame(),
+                   // The video again.
+                   FakeV4l2Step::Frame()};
+  V4l2SourceOptions options = StillOptions();
+  options.still_settle_frames = 1;
+  Rig rig = MakeRig(config, options);
+  rig.source->Open();
+  CapturedFrame frame;
+  ASSERT_EQ(ReadOnce(*rig.source, &frame), CaptureStatus::kFrame);
+  const ServedStill served = TakeStillServedByRead(*rig.source);
+  ASSERT_TRUE(served.outcome.error.empty()) << served.outcome.error;
+  ASSERT_TRUE(served.outcome.still.has_value());
+  EXPECT_GT(MjpegPatternPsnr(served.outcome.still->photo, 4), 30.0);
+  ASSERT_EQ(served.status, CaptureStatus::kFrame);
+  EXPECT_EQ(served.frame.frame_index, 5u);
+  ExpectCleanProtocol(*rig.fake);
+}
+
+TEST(V4l2SourceStill, TooManyBadFramesFailTheStillAndTheVideoGoesOn) {
+  FakeV4l2Config config = StillCamera();
+  config.script = {FakeV4l2Step::Frame(),
+                   FakeV4l2Step::Bad(Kind::kErrorFrame),
+                   FakeV4l2Step::Bad(Kind::kErrorFrame),
+                   FakeV4l2Step::Bad(Kind::kErrorFrame),
+                   FakeV4l2Step::Bad(Kind::kTruncatedJpeg),
+                   FakeV4l2Step::Frame()};
+  V4l2SourceOptions options = StillOptions();
+  options.still_settle_frames = 0;
+  Rig rig = MakeRig(config, options);
+  rig.source->Open();
+  CapturedFrame frame;
+  ASSERT_EQ(ReadOnce(*rig.source, &frame), CaptureStatus::kFrame);
+  const ServedStill served = TakeStillServedByRead(*rig.source);
+  EXPECT_FALSE(served.outcome.still.has_value());
+  EXPECT_TRUE(HasText(served.outcome.error, "/dev/video0"));
+  EXPECT_TRUE(HasText(served.outcome.error, "bad frames"));
+  ASSERT_EQ(served.status, CaptureStatus::kFrame);
+  EXPECT_EQ(served.frame.frame_index, 5u);
+  EXPECT_LE(YuyvPatternError(served.frame.image, 5), 2);
+  EXPECT_EQ(rig.fake->frame_size(), cv::Size(64, 48));
+  ExpectCleanProtocol(*rig.fake);
+}
+
+TEST(V4l2SourceStill, IgnoresLargerSizesOfAnotherAspectRatio) {
+  FakeV4l2Config config;
+  config.frame_sizes[V4L2_PIX_FMT_YUYV] = {FakeFrameSizes::Discrete(64, 48)};
+  config.frame_sizes[V4L2_PIX_FMT_MJPEG] = {FakeFrameSizes::Discrete(64, 48),
+                                            FakeFrameSizes::Discrete(128, 72),
+                                            FakeFrameSizes::Discrete(1280, 720)};
+  config.script = Frames(2);
+  Rig rig = MakeRig(config, StillOptions());
+  rig.source->Open();
+  const StillOutcome outcome = CallTakeStill(*rig.source);
+  EXPECT_TRUE(outcome.error.empty()) << outcome.error;
+  EXPECT_FALSE(outcome.still.has_value());
+  EXPECT_FALSE(rig.source->StillRequested());
+  CapturedFrame frame;
+  ASSERT_EQ(ReadOnce(*rig.source, &frame), CaptureStatus::kFrame);
+  EXPECT_EQ(rig.fake->streamon_calls(), 1);
+  ExpectCleanProtocol(*rig.fake);
+}
+
+TEST(V4l2SourceStill, NoStillWithoutALargerSizeOrSizeEnumeration) {
+  FakeV4l2Config smaller_only;
+  smaller_only.frame_sizes[V4L2_PIX_FMT_YUYV] = {FakeFrameSizes::Discrete(32, 24),
+                                                 FakeFrameSizes::Discrete(64, 48)};
+  FakeV4l2Config no_enumeration;  // ENUM_FRAMESIZES is not supported
+  for (const FakeV4l2Config& config : {smaller_only, no_enumeration}) {
+    Rig rig = MakeRig(config, StillOptions());
+    rig.source->Open();
+    const StillOutcome outcome = CallTakeStill(*rig.source);
+    EXPECT_TRUE(outcome.error.empty()) << outcome.error;
+    EXPECT_FALSE(outcome.still.has_value());
+    ExpectCleanProtocol(*rig.fake);
+  }
+}
+
+TEST(V4l2SourceStill, VideoStillsGiveNoStill) {
+  V4l2SourceOptions options = StillOptions();
+  options.full_resolution_stills = false;
+  Rig rig = MakeRig(StillCamera(), options);
+  rig.source->Open();
+  const StillOutcome outcome = CallTakeStill(*rig.source);
+  EXPECT_TRUE(outcome.error.empty()) << outcome.error;
+  EXPECT_FALSE(outcome.still.has_value());
+  EXPECT_EQ(rig.fake->streamon_calls(), 1);
+
+  // --video-stills reaches the V4L2 source (full-resolution stills need it open).
+  SourceOptions source_options;
+  source_options.video_stills = true;
+  const SourceDescription description{"v4l2", "/nonexistent/silnet-video0"};
+  std::unique_ptr<CaptureSource> video = MakeCaptureSource(description, source_options);
+  EXPECT_FALSE(video->TakeStill(CapturedFrame{}).has_value());
+  source_options.video_stills = false;
+  std::unique_ptr<CaptureSource> full = MakeCaptureSource(description, source_options);
+  EXPECT_THROW(full->TakeStill(CapturedFrame{}), CaptureError);
+}
+
+TEST(V4l2SourceStill, RefusedStillFormatGivesCaptureErrorAndTheVideoGoesOn) {
+  FakeV4l2Config config = StillCamera();
+  config.refused_sizes = {cv::Size(320, 240)};
+  config.script = Frames(4);
+  Rig rig = MakeRig(config, StillOptions());
+  rig.source->Open();
+  CapturedFrame frame;
+  ASSERT_EQ(ReadOnce(*rig.source, &frame), CaptureStatus::kFrame);
+  ASSERT_EQ(ReadOnce(*rig.source, &frame), CaptureStatus::kFrame);
+
+  const ServedStill served = TakeStillServedByRead(*rig.source);
+  EXPECT_FALSE(served.outcome.still.has_value());
+  EXPECT_TRUE(HasText(served.outcome.error, "/dev/video0"));
+  EXPECT_TRUE(HasText(served.outcome.error, "VIDIOC_S_FMT"));
+  ASSERT_EQ(served.status, CaptureStatus::kFrame) << rig.source->LastError();
+  EXPECT_EQ(served.frame.image.size(), cv::Size(64, 48));
+  EXPECT_EQ(served.frame.frame_index, 2u);
+  ASSERT_EQ(ReadOnce(*rig.source, &frame), CaptureStatus::kFrame);
+  EXPECT_EQ(frame.frame_index, 3u);
+  EXPECT_LE(YuyvPatternError(frame.image, 3), 2);
+  const CaptureCounters counters = rig.source->Counters();
+  EXPECT_EQ(counters.errors, 0u);
+  EXPECT_EQ(counters.reopens, 0u);
+  EXPECT_EQ(counters.dropped, 0u);
+  EXPECT_EQ(rig.fake->open_attempts(), 1);
+  EXPECT_EQ(rig.fake->allocated_buffers(), 4u);
+  ExpectCleanProtocol(*rig.fake);
+}
+
+// The device disappears while the still streams: through POLLERR (0) or DQBUF failing.
+class V4l2SourceStillLossTest : public ::testing::TestWithParam<int> {};
+
+TEST_P(V4l2SourceStillLossTest, DeviceLostDuringTheStillIsReopened) {
+  FakeV4l2Config config = StillCamera();
+  config.script = {FakeV4l2Step::Frame(), FakeV4l2Step::Frame(),
+                   // The still: a settle frame, then the camera is unplugged for 5 periods.
+                   FakeV4l2Step::Frame(), FakeV4l2Step::Disappear(GetParam(), 1, 5),
+                   FakeV4l2Step::Frame(), FakeV4l2Step::Frame()};
+  Rig rig = MakeRig(config, StillOptions());
+  rig.source->Open();
+  CapturedFrame frame;
+  ASSERT_EQ(ReadOnce(*rig.source, &frame), CaptureStatus::kFrame);
+  ASSERT_EQ(ReadOnce(*rig.source, &frame), CaptureStatus::kFrame);
+
+  const ServedStill served = TakeStillServedByRead(*rig.source);
+  EXPECT_FALSE(served.outcome.still.has_value());
+  EXPECT_TRUE(HasText(served.outcome.error, "/dev/video0"));
+  ASSERT_EQ(served.status, CaptureStatus::kError);
+  EXPECT_TRUE(HasText(rig.source->LastError(), "device lost"));
+  EXPECT_EQ(rig.fake->open_descriptors(), 0u);
+  EXPECT_EQ(rig.fake->mappings(), 0u);
+
+  // A still while the device is away fails at once.
+  const ServedStill away = TakeStillServedByRead(*rig.source);
+  EXPECT_TRUE(HasText(away.outcome.error, "away"));
+  EXPECT_EQ(away.status, CaptureStatus::kTimeout);  // the one failed re-open
+
+  ASSERT_EQ(ReadOnce(*rig.source, &frame), CaptureStatus::kFrame) << rig.source->LastError();
+  EXPECT_EQ(frame.frame_index, 8u);  // 1 + the 7 periods since frame 1 (one still frame, 5 away)
+  EXPECT_EQ(frame.image.size(), cv::Size(64, 48));
+  EXPECT_LE(YuyvPatternError(frame.image, 8), 2);
+  const CaptureCounters counters = rig.source->Counters();
+  EXPECT_EQ(counters.reopens, 1u);
+  EXPECT_EQ(counters.errors, 1u);
+  EXPECT_EQ(counters.dropped, 6u);
+  EXPECT_EQ(rig.fake->open_descriptors(), 1u);
+  EXPECT_EQ(rig.fake->frame_size(), cv::Size(64, 48));
+  ExpectCleanProtocol(*rig.fake);
+}
+
+INSTANTIATE_TEST_SUITE_P(LossKinds, V4l2SourceStillLossTest, ::testing::Values(0, ENODEV),
+                         [](const ::testing::TestParamInfo<int>& loss) {
+                           return loss.param == 0 ? std::string("PollError")
+                                                  : std::string("Enodev");
+                         });
+
+TEST(V4l2SourceStill, TimesOutWhenNobodyReads) {
+  FakeV4l2Config config = StillCamera();
+  config.script = Frames(2);
+  V4l2SourceOptions options = StillOptions();
+  options.still_timeout = milliseconds(200);
+  Rig rig = MakeRig(config, options);
+  rig.source->Open();
+  const Clock::time_point start = Clock::now();
+  const StillOutcome outcome = CallTakeStill(*rig.source);
+  EXPECT_GE(Clock::now() - start, milliseconds(200));
+  EXPECT_FALSE(outcome.still.has_value());
+  EXPECT_TRUE(HasText(outcome.error, "/dev/video0"));
+  EXPECT_TRUE(HasText(outcome.error, "no still within 200 ms"));
+  EXPECT_FALSE(rig.source->StillRequested());
+
+  // The abandoned request is not performed later.
+  CapturedFrame frame;
+  ASSERT_EQ(ReadOnce(*rig.source, &frame), CaptureStatus::kFrame);
+  EXPECT_EQ(frame.frame_index, 0u);
+  EXPECT_EQ(rig.fake->streamon_calls(), 1);
+  ExpectCleanProtocol(*rig.fake);
+}
+
+TEST(V4l2SourceStill, CloseWakesAWaitingStill) {
+  Rig rig = MakeRig(StillCamera(), StillOptions());
+  rig.source->Open();
+  std::future<StillOutcome> taking =
+      std::async(std::launch::async, [&rig] { return CallTakeStill(*rig.source); });
+  ASSERT_TRUE(WaitUntil([&] { return rig.source->StillRequested(); }));
+  rig.source->Close();
+  ASSERT_EQ(taking.wait_for(std::chrono::seconds(60)), std::future_status::ready);
+  const StillOutcome outcome = taking.get();
+  EXPECT_FALSE(outcome.still.has_value());
+  EXPECT_TRUE(HasText(outcome.error, "/dev/video0"));
+  EXPECT_TRUE(HasText(outcome.error, "closed"));
+  EXPECT_FALSE(rig.source->StillRequested());
+
+  const StillOutcome closed = CallTakeStill(*rig.source);
+  EXPECT_TRUE(HasText(closed.error, "not open"));
+  EXPECT_EQ(rig.fake->streamon_calls(), 1);
+  ExpectCleanProtocol(*rig.fake);
+}
+
+TEST(V4l2SourceStill, RejectsBadStillOptions) {
+  const auto error_of = [](V4l2SourceOptions options) -> std::string {
+    try {
+      V4l2Source source(std::move(options),
+                        FakeV4l2Device::Handle(std::make_shared<FakeV4l2Device>(FakeV4l2Config{})));
+    } catch (const CaptureError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  V4l2SourceOptions options = StillOptions();
+  options.still_settle_frames = -1;
+  EXPECT_TRUE(HasText(error_of(options), "settle frames"));
+  options = StillOptions();
+  options.still_timeout = milliseconds(0);
+  EXPECT_TRUE(HasText(error_of(options), "still timeout"));
+  options = StillOptions();
+  options.still_settle_frames = 0;
+  EXPECT_EQ(error_of(options), "");
+}
+
+TEST(FakeV4l2Device, EnumeratesFrameSizesAndRefusesFormatChangesWhileBusy) {
+  FakeV4l2Config config;
+  config.frame_sizes[V4L2_PIX_FMT_YUYV] = {FakeFrameSizes::Discrete(64, 48),
+                                           FakeFrameSizes::Discrete(320, 240)};
+  config.frame_sizes[V4L2_PIX_FMT_MJPEG] = {
+      FakeFrameSizes::Stepwise({32, 24}, {640, 480}, {16, 12})};
+  FakeV4l2Device fake(config);
+  const int fd = fake.Open("/dev/video0", 0);
+  ASSERT_GE(fd, 0);
+
+  v4l2_frmsizeenum entry{};
+  entry.pixel_format = V4L2_PIX_FMT_YUYV;
+  ASSERT_EQ(fake.Ioctl(fd, VIDIOC_ENUM_FRAMESIZES, &entry), 0);
+  EXPECT_EQ(entry.type, static_cast<uint32_t>(V4L2_FRMSIZE_TYPE_DISCRETE));
+  EXPECT_EQ(entry.discrete.width, 64u);
+  entry.index = 1;
+  ASSERT_EQ(fake.Ioctl(fd, VIDIOC_ENUM_FRAMESIZES, &entry), 0);
+  EXPECT_EQ(entry.discrete.height, 240u);
+  entry.index = 2;
+  EXPECT_EQ(fake.Ioctl(fd, VIDIOC_ENUM_FRAMESIZES, &entry), -1);
+  EXPECT_EQ(errno, EINVAL);
+  entry = v4l2_frmsizeenum{};
+  entry.pixel_format = V4L2_PIX_FMT_MJPEG;
+  ASSERT_EQ(fake.Ioctl(fd, VIDIOC_ENUM_FRAMESIZES, &entry), 0);
+  EXPECT_EQ(entry.type, static_cast<uint32_t>(V4L2_FRMSIZE_TYPE_STEPWISE));
+  EXPECT_EQ(entry.stepwise.max_width, 640u);
+  EXPECT_EQ(entry.stepwise.step_height, 12u);
+  entry.index = 1;
+  EXPECT_EQ(fake.Ioctl(fd, VIDIOC_ENUM_FRAMESIZES, &entry), -1);
+  entry = v4l2_frmsizeenum{};
+  entry.pixel_format = V4L2_PIX_FMT_NV12;
+  EXPECT_EQ(fake.Ioctl(fd, VIDIOC_ENUM_FRAMESIZES, &entry), -1);
+  EXPECT_EQ(errno, EINVAL);
+
+  // S_FMT grants the nearest listed size, or the range's nearest step.
+  v4l2_format format{};
+  format.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  format.fmt.pix.pixelformat = V4L2_PIX_FMT_YUYV;
+  format.fmt.pix.width = 300;
+  format.fmt.pix.height = 200;
+  ASSERT_EQ(fake.Ioctl(fd, VIDIOC_S_FMT, &format), 0);
+  EXPECT_EQ(fake.frame_size(), cv::Size(320, 240));
+  format.fmt.pix.pixelformat = V4L2_PIX_FMT_MJPEG;
+  format.fmt.pix.width = 100;
+  format.fmt.pix.height = 100;
+  ASSERT_EQ(fake.Ioctl(fd, VIDIOC_S_FMT, &format), 0);
+  EXPECT_EQ(fake.frame_size(), cv::Size(96, 96));
+  EXPECT_TRUE(fake.violations().empty());
+
+  // The format cannot change while buffers are allocated, streaming or not.
+  v4l2_requestbuffers request{};
+  request.count = 2;
+  request.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  request.memory = V4L2_MEMORY_MMAP;
+  ASSERT_EQ(fake.Ioctl(fd, VIDIOC_REQBUFS, &request), 0);
+  EXPECT_EQ(fake.Ioctl(fd, VIDIOC_S_FMT, &format), -1);
+  EXPECT_EQ(errno, EBUSY);
+  ASSERT_EQ(fake.violations().size(), 1u);
+  EXPECT_TRUE(HasText(fake.violations()[0], "buffers are allocated"));
+  int type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  ASSERT_EQ(fake.Ioctl(fd, VIDIOC_STREAMON, &type), 0);
+  EXPECT_EQ(fake.Ioctl(fd, VIDIOC_S_FMT, &format), -1);
+  ASSERT_EQ(fake.violations().size(), 2u);
+  EXPECT_TRUE(HasText(fake.violations()[1], "while streaming"));
+  EXPECT_EQ(fake.frame_size(), cv::Size(96, 96));
+  EXPECT_EQ(fake.Close(fd), 0);
+
+  FakeV4l2Device no_sizes(FakeV4l2Config{});
+  const int other = no_sizes.Open("/dev/video0", 0);
+  entry = v4l2_frmsizeenum{};
+  entry.pixel_format = V4L2_PIX_FMT_YUYV;
+  EXPECT_EQ(no_sizes.Ioctl(other, VIDIOC_ENUM_FRAMESIZES, &entry), -1);
+  EXPECT_EQ(errno, ENOTTY);
+  EXPECT_EQ(no_sizes.Close(other), 0);
 }
 
 TEST(FakeV4l2Device, RecordsProtocolViolations) {
