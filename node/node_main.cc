@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
   app.add_option("--pixel-format", source_options.pixel_format, "v4l2: yuyv, mjpeg or auto")
       ->capture_default_str();
   app.add_flag("--video-stills", source_options.video_stills,
-               "v4l2: stills at the video size, without switching to the camera's largest size");
+               "v4l2, libcamera: stills at the video size, not from the camera's largest size");
   app.add_flag("--real-time", source_options.real_time, "release file frames at their due time");
   app.add_option("--start-at", source_options.start_ns,
                  "pacing: CLOCK_REALTIME ns of reference time 0 (0 = now); share it between "

@@ -133,6 +133,7 @@ std::unique_ptr<CaptureSource> MakeCaptureSource(const SourceDescription& d,
     l.width = o.width;
     l.height = o.height;
     l.fps = o.fps;
+    l.still_capture = !o.video_stills;
     return std::make_unique<LibcameraSource>(l);
 #else
     throw InputError("this silnet-node was built without libcamera");

@@ -23,7 +23,7 @@ struct SourceOptions {
   int height = 480;
   double fps = 30.0;                  // v4l2, libcamera: rate asked for; files: 0 = the file's
   std::string pixel_format = "auto";  // v4l2: yuyv, mjpeg or auto
-  bool video_stills = false;          // v4l2: stills at the video size, not the largest size
+  bool video_stills = false;          // v4l2, libcamera: stills at the video size, not larger
   bool real_time = false;             // files: release frames at their due time
   int64_t start_ns = 0;               // pacing: CLOCK_REALTIME of reference time 0 (0 = now)
   double speed = 1.0;                 // sim: replay speed (2 = twice real time)

@@ -149,20 +149,212 @@ struct Mapping {
   size_t length = 0;
 };
 
+// How an image lies in its planes.
+struct ImageLayout {
+  libcamera::PixelFormat format;
+  int width = 0;
+  int height = 0;
+  size_t stride = 0;  // bytes per row of the first plane
+};
+
+ImageLayout LayoutOf(const libcamera::StreamConfiguration& config) {
+  ImageLayout layout;
+  layout.format = config.pixelFormat;
+  layout.width = static_cast<int>(config.size.width);
+  layout.height = static_cast<int>(config.size.height);
+  layout.stride = config.stride;
+  return layout;
+}
+
+// Buffers of the still-capture stream (few: the frames are large, and one still is taken at a
+// time).
+constexpr unsigned int kStillBuffers = 1;
+// Still sizes tried (each with a fresh configuration) before stills fall back to the video.
+constexpr size_t kStillAttempts = 3;
+// Largest relative difference of aspect ratios taken as the same view.
+constexpr double kAspectTolerance = 0.01;
+// Frame sizes beyond this (in either dimension) are taken as "unbounded" range limits.
+constexpr int64_t kLargestDimension = 1 << 16;
+
+uint64_t Area(const libcamera::Size& size) {
+  return uint64_t{size.width} * uint64_t{size.height};
+}
+
+// True if `size` has the aspect ratio of `reference` within kAspectTolerance.
+bool SameAspect(const libcamera::Size& size, const libcamera::Size& reference) {
+  if (size.height == 0 || reference.width == 0 || reference.height == 0) return false;
+  const double ratio = (static_cast<double>(size.width) * reference.height) /
+                       (static_cast<double>(size.height) * reference.width);
+  return std::abs(ratio - 1.0) <= kAspectTolerance;
+}
+
+// The largest size of `range` (its minimum plus whole steps, up to its maximum) with the
+// aspect ratio of `video`; a null size if there is none. A range StreamFormats made up from
+// discrete sizes (steps 0) holds only those, which StreamFormats::sizes() lists: null too.
+libcamera::Size LargestOfAspect(const libcamera::SizeRange& range, const libcamera::Size& video) {
+  const libcamera::Size& min = range.min;
+  const libcamera::Size& max = range.max;
+  if (range.hStep == 0 || range.vStep == 0 || max.width == 0 || max.height == 0 ||
+      min.width > max.width || min.height > max.height || video.width == 0 || video.height == 0)
+    return libcamera::Size();
+  const int64_t h_step = range.hStep;
+  const int64_t v_step = range.vStep;
+  const int64_t min_width = min.width;
+  const int64_t min_height = min.height;
+  const int64_t max_height = std::min<int64_t>(max.height, kLargestDimension);
+  // No width beyond the one whose height of the video's aspect ratio passes the largest.
+  const int64_t widest = std::min<int64_t>(
+      {max.width, kLargestDimension, (max_height + v_step) * video.width / video.height + h_step});
+  if (widest < min_width) return libcamera::Size();
+  libcamera::Size best;
+  uint64_t best_area = 0;
+  // Widths from the widest down, while one can still give a larger area.
+  for (int64_t width = min_width + (widest - min_width) / h_step * h_step;
+       width >= min_width && width > 0; width -= h_step) {
+    if (static_cast<uint64_t>(width) * static_cast<uint64_t>(max_height) <= best_area) break;
+    const double ideal = static_cast<double>(width) * video.height / video.width;
+    if (ideal < static_cast<double>(min_height)) break;  // narrower widths want lower heights
+    const int64_t height = min_height + std::llround((ideal - static_cast<double>(min_height)) /
+                                                     static_cast<double>(v_step)) *
+                                            v_step;
+    if (height > max_height) continue;
+    const libcamera::Size size(static_cast<unsigned int>(width), static_cast<unsigned int>(height));
+    if (SameAspect(size, video) && Area(size) > best_area) {
+      best = size;
+      best_area = Area(size);
+    }
+  }
+  return best;
+}
+
+// A pixel format and size to ask of the still-capture stream.
+struct StillCandidate {
+  libcamera::PixelFormat format;
+  libcamera::Size size;
+};
+
+// The sizes `formats` offers (its listed sizes and the largest of the video's aspect ratio in
+// its range) in formats this source converts, larger than `video` and of its aspect ratio;
+// largest first, on equal sizes in the order of kConvertibleFormats.
+std::vector<StillCandidate> StillCandidates(const libcamera::StreamFormats& formats,
+                                            const libcamera::Size& video) {
+  const std::vector<libcamera::PixelFormat> offered = formats.pixelformats();
+  std::vector<StillCandidate> candidates;
+  for (const libcamera::PixelFormat& format : kConvertibleFormats) {
+    if (std::find(offered.begin(), offered.end(), format) == offered.end()) continue;
+    std::vector<libcamera::Size> sizes = formats.sizes(format);
+    sizes.push_back(LargestOfAspect(formats.range(format), video));
+    for (const libcamera::Size& size : sizes) {
+      if (Area(size) <= Area(video) || !SameAspect(size, video)) continue;
+      const bool known = std::any_of(
+          candidates.begin(), candidates.end(),
+          [&](const StillCandidate& c) { return c.format == format && c.size == size; });
+      if (!known) candidates.push_back(StillCandidate{format, size});
+    }
+  }
+  std::stable_sort(
+      candidates.begin(), candidates.end(),
+      [](const StillCandidate& a, const StillCandidate& b) { return Area(a.size) > Area(b.size); });
+  return candidates;
+}
+
+// A validated configuration of two streams: [0] the video exactly as `video` (validated alone)
+// and [1] a still-capture stream larger than the video and of its aspect ratio. nullptr with
+// `why` set when the camera cannot do that.
+std::unique_ptr<libcamera::CameraConfiguration> StillConfiguration(
+    libcamera::Camera& camera, const libcamera::StreamConfiguration& video, std::string* why) {
+  const libcamera::StreamRoles roles = {libcamera::StreamRole::VideoRecording,
+                                        libcamera::StreamRole::StillCapture};
+  std::unique_ptr<libcamera::CameraConfiguration> config = camera.generateConfiguration(roles);
+  if (!config || config->size() < 2) {
+    *why = "the camera offers no still-capture stream beside the video";
+    return nullptr;
+  }
+  const std::vector<StillCandidate> candidates =
+      StillCandidates(config->at(1).formats(), video.size);
+  if (candidates.empty()) {
+    *why = fmt::format(
+        "its still-capture stream offers no size larger than {} of the same aspect ratio in a "
+        "pixel format this source converts",
+        video.size.toString());
+    return nullptr;
+  }
+  for (size_t attempt = 0; attempt < candidates.size() && attempt < kStillAttempts; ++attempt) {
+    const StillCandidate& candidate = candidates[attempt];
+    if (attempt > 0) {
+      config = camera.generateConfiguration(roles);  // validate() may have changed the last one
+      if (!config || config->size() < 2) {
+        *why = "the camera offers no still-capture stream beside the video";
+        return nullptr;
+      }
+    }
+    libcamera::StreamConfiguration& both_video = config->at(0);
+    libcamera::StreamConfiguration& still = config->at(1);
+    both_video.pixelFormat = video.pixelFormat;
+    both_video.size = video.size;
+    both_video.bufferCount = video.bufferCount;
+    both_video.colorSpace = video.colorSpace;
+    still.pixelFormat = candidate.format;
+    still.size = candidate.size;
+    still.bufferCount = kStillBuffers;
+    still.colorSpace = video.colorSpace;  // streams may have to share one: the video's
+    const std::string asked =
+        fmt::format("{}-{}", candidate.size.toString(), candidate.format.toString());
+    if (config->validate() == libcamera::CameraConfiguration::Invalid) {
+      *why = fmt::format("the camera rejects a still stream of {} beside the video", asked);
+      continue;
+    }
+    if (config->size() < 2) {
+      *why = "the camera cannot stream stills beside the video";
+      return nullptr;
+    }
+    if (both_video.pixelFormat != video.pixelFormat || both_video.size != video.size ||
+        both_video.bufferCount != video.bufferCount || both_video.colorSpace != video.colorSpace) {
+      *why =
+          fmt::format("with a still stream of {} the video would be {} {} instead of {} {}", asked,
+                      both_video.toString(), libcamera::ColorSpace::toString(both_video.colorSpace),
+                      video.toString(), libcamera::ColorSpace::toString(video.colorSpace));
+      continue;
+    }
+    if (!IsConvertible(still.pixelFormat) || Area(still.size) <= Area(video.size) ||
+        !SameAspect(still.size, video.size)) {
+      *why = fmt::format("the camera makes a still stream of {} {}", asked, still.toString());
+      continue;
+    }
+    return config;
+  }
+  return nullptr;
+}
+
 }  // namespace
+
+// A still's planes copied out of its frame buffer, converted by TakeStill().
+struct LibcameraSource::StillImage {
+  std::vector<std::vector<uint8_t>> planes;
+  std::optional<size_t> first_plane_used;  // bytes the camera filled, when it tells
+  ImageLayout layout;
+};
 
 // Everything that exists only while the camera is open. The destructor tears it down in the
 // order libcamera needs (stop, requests, buffers, release, camera, manager), so a half-done
 // Open() cleans up by destroying it.
 struct LibcameraSource::State {
+  LibcameraSource* source = nullptr;  // for the still requests
   std::shared_ptr<libcamera::CameraManager> manager;
   std::shared_ptr<libcamera::Camera> camera;
   bool acquired = false;
   bool started = false;
   bool connected = false;
-  std::unique_ptr<libcamera::CameraConfiguration> config;
+  std::unique_ptr<libcamera::CameraConfiguration> config;  // the video alone
   libcamera::Stream* stream = nullptr;
   libcamera::StreamConfiguration granted;
+
+  // The still-capture stream, if configured (Read()'s thread).
+  std::unique_ptr<libcamera::CameraConfiguration> still_config;  // video and still
+  libcamera::Stream* still_stream = nullptr;
+  libcamera::StreamConfiguration still_granted;
+  std::vector<libcamera::FrameBuffer*> free_still_buffers;
+  std::map<const libcamera::FrameBuffer*, uint64_t> still_in_flight;  // buffer -> still request
   std::unique_ptr<libcamera::FrameBufferAllocator> allocator;
   std::vector<Mapping> mappings;
   std::map<const libcamera::FrameBuffer*, std::vector<PlaneView>> planes;
@@ -187,8 +379,18 @@ struct LibcameraSource::State {
   void OnDisconnected();
   // Maps every plane of the allocated buffers; throws CaptureError if mmap fails.
   void MapBuffers(const std::vector<std::unique_ptr<libcamera::FrameBuffer>>& buffers);
+  // Configures the camera with `video` (validated alone) and a still-capture stream, allocates
+  // and maps the still buffers; must come before the video buffers are mapped. False with `why`
+  // set, and nothing of the still stream left, when the camera cannot; it must then be
+  // configured for the video alone.
+  bool ConfigureWithStill(const libcamera::StreamConfiguration& video, std::string* why);
   // Sets the per-request controls and queues `request`; returns libcamera's result.
   int Queue(libcamera::Request* request);
+  // Gives a completed request back to the camera with its video buffer, dropping the still
+  // buffer it carried and adding the free one if a still is requested.
+  void Requeue(libcamera::Request* request, const std::string& camera_id);
+  // Hands the still buffer of a completed request to the waiting TakeStill() and frees it.
+  void DeliverStill(const libcamera::Request& request, libcamera::FrameBuffer* buffer);
   // Converts the buffer of a completed request to BGR; empty on failure with `error` set.
   cv::Mat ConvertToBgr(const libcamera::FrameBuffer& buffer, std::string* error) const;
 };
@@ -210,6 +412,7 @@ LibcameraSource::State::~State() {
   planes.clear();
   allocator.reset();  // frees the buffers, which must precede release()
   if (acquired) camera->release();
+  still_config.reset();
   config.reset();
   camera.reset();
   manager.reset();
@@ -229,6 +432,7 @@ void LibcameraSource::State::OnDisconnected() {
     disconnected = true;
   }
   completed_cv.notify_one();
+  source->FailStills("the camera disconnected");
 }
 
 void LibcameraSource::State::MapBuffers(
@@ -265,6 +469,48 @@ void LibcameraSource::State::MapBuffers(
   }
 }
 
+bool LibcameraSource::State::ConfigureWithStill(const libcamera::StreamConfiguration& video,
+                                                std::string* why) {
+  std::unique_ptr<libcamera::CameraConfiguration> both = StillConfiguration(*camera, video, why);
+  if (!both) return false;
+  int result = camera->configure(both.get());
+  if (result < 0) {
+    *why = fmt::format("the camera cannot be configured with a still stream of {}: {}",
+                       both->at(1).toString(), ErrnoText(result));
+    return false;
+  }
+  libcamera::Stream* still = both->at(1).stream();
+  if (both->at(0).stream() == nullptr || still == nullptr) {
+    *why = "the camera gave no still stream";
+    return false;
+  }
+  result = allocator->allocate(still);
+  if (result <= 0) {
+    allocator->free(still);
+    *why = fmt::format("cannot allocate still buffers: {}",
+                       result < 0 ? ErrnoText(result) : "none allocated");
+    return false;
+  }
+  const std::vector<std::unique_ptr<libcamera::FrameBuffer>>& buffers = allocator->buffers(still);
+  try {
+    MapBuffers(buffers);
+  } catch (const CaptureError& e) {
+    for (const Mapping& mapping : mappings)  // only still buffers are mapped so far
+      munmap(mapping.address, mapping.length);
+    mappings.clear();
+    planes.clear();
+    allocator->free(still);
+    *why = e.what();
+    return false;
+  }
+  for (const std::unique_ptr<libcamera::FrameBuffer>& buffer : buffers)
+    free_still_buffers.push_back(buffer.get());
+  still_stream = still;
+  still_granted = still->configuration();  // what configure() settled on
+  still_config = std::move(both);
+  return true;
+}
+
 int LibcameraSource::State::Queue(libcamera::Request* request) {
   if (frame_duration_us) {
     request->controls().set(libcamera::controls::FrameDurationLimits,
@@ -275,19 +521,101 @@ int LibcameraSource::State::Queue(libcamera::Request* request) {
   return result;
 }
 
-cv::Mat LibcameraSource::State::ConvertToBgr(const libcamera::FrameBuffer& buffer,
-                                             std::string* error) const {
-  const auto found = planes.find(&buffer);
-  if (found == planes.end()) {
-    *error = "completed buffer is not one of the allocated buffers";
-    return cv::Mat();
+void LibcameraSource::State::Requeue(libcamera::Request* request, const std::string& camera_id) {
+  if (still_stream != nullptr && request->findBuffer(still_stream) != nullptr) {
+    // reuse(ReuseBuffers) would keep the still buffer: start empty with the video buffer.
+    libcamera::FrameBuffer* video = request->findBuffer(stream);
+    request->reuse(libcamera::Request::Default);
+    if (video != nullptr) {
+      const int result = request->addBuffer(stream, video);
+      if (result < 0) {
+        requeue_error = fmt::format("cannot put the frame buffer back: {}", ErrnoText(result));
+        spdlog::warn("libcamera camera {}: cannot re-queue a request: {}", camera_id,
+                     requeue_error);
+        return;
+      }
+    }
+  } else {
+    request->reuse(libcamera::Request::ReuseBuffers);
   }
-  const std::vector<PlaneView>& views = found->second;
-  const libcamera::FrameMetadata& metadata = buffer.metadata();
-  const libcamera::PixelFormat format = granted.pixelFormat;
-  const int width = static_cast<int>(granted.size.width);
-  const int height = static_cast<int>(granted.size.height);
-  const size_t stride = granted.stride;
+
+  // A requested still rides on this request.
+  uint64_t still_id = 0;
+  libcamera::FrameBuffer* still = nullptr;
+  if (still_stream != nullptr && !free_still_buffers.empty()) {
+    still_id = source->TakeStillRequest();
+    if (still_id != 0) {
+      still = free_still_buffers.back();
+      const int result = request->addBuffer(still_stream, still);
+      if (result < 0) {
+        source->AnswerStill(
+            still_id, nullptr,
+            fmt::format("libcamera camera {}: cannot add the still buffer to a request: {}",
+                        camera_id, ErrnoText(result)));
+        still = nullptr;
+      } else {
+        free_still_buffers.pop_back();
+        still_in_flight[still] = still_id;
+      }
+    }
+  }
+
+  const int result = Queue(request);
+  if (result < 0) {
+    requeue_error = ErrnoText(result);
+    spdlog::warn("libcamera camera {}: cannot re-queue a request: {}", camera_id, requeue_error);
+    if (still != nullptr) {
+      still_in_flight.erase(still);
+      free_still_buffers.push_back(still);
+      source->AnswerStill(still_id, nullptr,
+                          fmt::format("libcamera camera {}: cannot queue the still request: {}",
+                                      camera_id, requeue_error));
+    }
+  }
+}
+
+void LibcameraSource::State::DeliverStill(const libcamera::Request& request,
+                                          libcamera::FrameBuffer* buffer) {
+  const auto found = still_in_flight.find(buffer);
+  if (found == still_in_flight.end()) return;  // not one this source attached
+  const uint64_t id = found->second;
+  still_in_flight.erase(found);
+  std::shared_ptr<StillImage> image;
+  std::string error;
+  const libcamera::FrameMetadata& metadata = buffer->metadata();
+  if (!source->StillAwaited(id)) {
+    // Its TakeStill() gave up: nothing to copy.
+  } else if (request.status() == libcamera::Request::RequestCancelled ||
+             metadata.status == libcamera::FrameMetadata::FrameCancelled) {
+    error = "the still was cancelled";
+  } else if (metadata.status != libcamera::FrameMetadata::FrameSuccess) {
+    error = "the still frame failed";
+  } else if (const auto views = planes.find(buffer); views == planes.end()) {
+    error = "the completed still buffer is not one of the allocated buffers";
+  } else {
+    // Copied so that the buffer goes back at once and TakeStill() converts on its own thread.
+    image = std::make_shared<StillImage>();
+    for (const PlaneView& view : views->second)
+      image->planes.emplace_back(view.data, view.data + view.length);
+    if (!metadata.planes().empty()) image->first_plane_used = metadata.planes()[0].bytesused;
+    image->layout = LayoutOf(still_granted);
+  }
+  free_still_buffers.push_back(buffer);
+  source->AnswerStill(
+      id, std::move(image),
+      error.empty() ? "" : fmt::format("libcamera camera {}: {}", camera->id(), error));
+}
+
+namespace {
+
+// Converts an image laid out as `layout` in `views` to BGR; empty on failure with `error` set.
+// `first_plane_used` is the bytes the camera filled in the first plane, when it tells.
+cv::Mat ConvertPlanes(const std::vector<PlaneView>& views, std::optional<size_t> first_plane_used,
+                      const ImageLayout& layout, std::string* error) {
+  const libcamera::PixelFormat format = layout.format;
+  const int width = layout.width;
+  const int height = layout.height;
+  const size_t stride = layout.stride;
 
   // Plane `index` from `byte_offset` on as `rows` x `cols` of `type`, rows `step` bytes
   // apart; empty if that does not fit in the plane.
@@ -305,7 +633,7 @@ cv::Mat LibcameraSource::State::ConvertToBgr(const libcamera::FrameBuffer& buffe
   try {
     if (format == formats::MJPEG) {
       size_t used = views.empty() ? 0 : views[0].length;
-      if (!metadata.planes().empty()) used = std::min<size_t>(used, metadata.planes()[0].bytesused);
+      if (first_plane_used) used = std::min(used, *first_plane_used);
       if (used == 0) {
         *error = "empty MJPEG frame";
         return cv::Mat();
@@ -378,7 +706,23 @@ cv::Mat LibcameraSource::State::ConvertToBgr(const libcamera::FrameBuffer& buffe
   return bgr;
 }
 
-LibcameraSource::LibcameraSource(LibcameraSourceOptions options) : options_(std::move(options)) {}
+}  // namespace
+
+cv::Mat LibcameraSource::State::ConvertToBgr(const libcamera::FrameBuffer& buffer,
+                                             std::string* error) const {
+  const auto found = planes.find(&buffer);
+  if (found == planes.end()) {
+    *error = "completed buffer is not one of the allocated buffers";
+    return cv::Mat();
+  }
+  const libcamera::FrameMetadata& metadata = buffer.metadata();
+  std::optional<size_t> first_plane_used;
+  if (!metadata.planes().empty()) first_plane_used = metadata.planes()[0].bytesused;
+  return ConvertPlanes(found->second, first_plane_used, LayoutOf(granted), error);
+}
+
+LibcameraSource::LibcameraSource(LibcameraSourceOptions options)
+    : options_(std::move(options)), still_camera_(RequestedCamera()) {}
 
 LibcameraSource::~LibcameraSource() {
   Close();
@@ -394,8 +738,11 @@ void LibcameraSource::Open() {
     throw CaptureError(fmt::format("libcamera: bad frame rate {}", options_.fps));
   if (options_.buffer_count < 0)
     throw CaptureError(fmt::format("libcamera: bad buffer count {}", options_.buffer_count));
+  if (options_.still_timeout.count() <= 0)
+    throw CaptureError("libcamera: the still timeout must be positive");
 
   auto state = std::make_unique<State>();
+  state->source = this;
   state->manager = AcquireCameraManager();
   const std::vector<std::shared_ptr<libcamera::Camera>> cameras = state->manager->cameras();
   const std::string wanted = options_.camera_id.empty()
@@ -475,16 +822,31 @@ void LibcameraSource::Open() {
     spdlog::info("libcamera camera {}: asked for {} {}x{}, granted {}", id, chosen.toString(),
                  options_.width, options_.height, stream_config.toString());
   }
-  result = camera.configure(state->config.get());
-  if (result < 0)
-    throw CaptureError(fmt::format("libcamera camera {} cannot be configured as {}: {}", id,
-                                   stream_config.toString(), ErrnoText(result)));
-  state->stream = stream_config.stream();
+  state->allocator = std::make_unique<libcamera::FrameBufferAllocator>(state->camera);
+  bool with_still = false;
+  if (options_.still_capture) {
+    std::string no_still;
+    with_still = state->ConfigureWithStill(stream_config, &no_still);
+    if (with_still) {
+      spdlog::info("libcamera camera {}: stills at {} from a still-capture stream", id,
+                   state->still_granted.toString());
+    } else {
+      spdlog::info("libcamera camera {}: {}; stills are the video frames", id, no_still);
+    }
+  }
+  if (with_still) {
+    state->stream = state->still_config->at(0).stream();
+  } else {
+    result = camera.configure(state->config.get());
+    if (result < 0)
+      throw CaptureError(fmt::format("libcamera camera {} cannot be configured as {}: {}", id,
+                                     stream_config.toString(), ErrnoText(result)));
+    state->stream = stream_config.stream();
+  }
   if (state->stream == nullptr)
     throw CaptureError(fmt::format("libcamera camera {} gave no stream", id));
   state->granted = state->stream->configuration();  // what configure() settled on
 
-  state->allocator = std::make_unique<libcamera::FrameBufferAllocator>(state->camera);
   result = state->allocator->allocate(state->stream);
   if (result <= 0)
     throw CaptureError(fmt::format("libcamera camera {}: cannot allocate frame buffers: {}", id,
@@ -514,6 +876,10 @@ void LibcameraSource::Open() {
       duration_us = std::max(duration_us, min.get<int64_t>());
     if (max.type() == libcamera::ControlTypeInteger64 && !max.isArray() && max.get<int64_t>() > 0)
       duration_us = std::min(duration_us, max.get<int64_t>());
+    if (with_still && duration_us > std::llround(1e6 / options_.fps)) {
+      spdlog::warn("libcamera camera {}: with its still stream it runs at most {:g} fps, not {:g}",
+                   id, 1e6 / static_cast<double>(duration_us), options_.fps);
+    }
     state->frame_duration_us = duration_us;
     format_.fps = 1e6 / static_cast<double>(duration_us);
   } else if (options_.fps > 0.0) {
@@ -549,6 +915,10 @@ void LibcameraSource::Open() {
   format_.pixel_format = state->granted.pixelFormat.toString();
   camera_id_ = id;
   state_ = std::move(state);
+  std::lock_guard lock(still_mutex_);
+  still_camera_ = id;
+  accepting_stills_ = true;
+  still_stream_ = with_still;
 }
 
 CaptureStatus LibcameraSource::Read(CapturedFrame* frame, std::chrono::milliseconds timeout) {
@@ -580,17 +950,13 @@ CaptureStatus LibcameraSource::Read(CapturedFrame* frame, std::chrono::milliseco
       state.completed.pop_front();
     }
     --state.in_flight;
+    if (state.still_stream != nullptr) {
+      if (libcamera::FrameBuffer* still = request->findBuffer(state.still_stream))
+        state.DeliverStill(*request, still);
+    }
 
-    // Gives the request back to the camera with the same buffer.
-    auto requeue = [&] {
-      request->reuse(libcamera::Request::ReuseBuffers);
-      const int result = state.Queue(request);
-      if (result < 0) {
-        state.requeue_error = ErrnoText(result);
-        spdlog::warn("libcamera camera {}: cannot re-queue a request: {}", camera_id_,
-                     state.requeue_error);
-      }
-    };
+    // Gives the request back to the camera with the same buffer (and a requested still's).
+    auto requeue = [&] { state.Requeue(request, camera_id_); };
 
     if (request->status() == libcamera::Request::RequestCancelled) {
       requeue();
@@ -645,14 +1011,105 @@ CaptureStatus LibcameraSource::Read(CapturedFrame* frame, std::chrono::milliseco
 }
 
 void LibcameraSource::Close() {
+  {
+    std::lock_guard lock(still_mutex_);
+    if (waiting_still_id_ != 0 && still_answer_.id != waiting_still_id_) {
+      still_answer_ = StillAnswer{waiting_still_id_, nullptr,
+                                  StillMessage("the source was closed while a still waited")};
+    }
+    accepting_stills_ = false;
+    still_stream_ = false;
+    still_failure_.clear();
+    pending_still_id_ = 0;
+  }
+  still_answered_.notify_all();
   state_.reset();
 }
 
+std::optional<StillPhoto> LibcameraSource::TakeStill(const CapturedFrame& frame) {
+  static_cast<void>(frame);
+  if (!options_.still_capture) return std::nullopt;
+  std::lock_guard call(still_call_mutex_);
+  std::unique_lock lock(still_mutex_);
+  if (!accepting_stills_) throw CaptureError(StillMessage("no still: the source is not open"));
+  if (!still_stream_) return std::nullopt;
+  if (!still_failure_.empty())
+    throw CaptureError(StillMessage(fmt::format("no still: {}", still_failure_)));
+  const uint64_t id = ++last_still_id_;
+  pending_still_id_ = id;
+  waiting_still_id_ = id;
+  const bool answered =
+      still_answered_.wait_until(lock, std::chrono::steady_clock::now() + options_.still_timeout,
+                                 [&] { return still_answer_.id == id; });
+  waiting_still_id_ = 0;
+  if (!answered) {
+    if (pending_still_id_ == id) pending_still_id_ = 0;
+    throw CaptureError(
+        StillMessage(fmt::format("no still within {} ms", options_.still_timeout.count())));
+  }
+  StillAnswer answer = std::move(still_answer_);
+  still_answer_ = StillAnswer{};
+  const std::string camera = still_camera_;
+  lock.unlock();
+  if (!answer.error.empty()) throw CaptureError(answer.error);
+  if (!answer.image) throw CaptureError(fmt::format("libcamera camera {}: no still", camera));
+
+  const StillImage& image = *answer.image;
+  std::vector<PlaneView> views;
+  for (const std::vector<uint8_t>& plane : image.planes)
+    views.push_back(PlaneView{plane.data(), plane.size()});
+  std::string error;
+  StillPhoto still;
+  still.photo = ConvertPlanes(views, image.first_plane_used, image.layout, &error);
+  if (still.photo.empty())
+    throw CaptureError(fmt::format("libcamera camera {}: still: {}", camera, error));
+  return still;
+}
+
+std::string LibcameraSource::RequestedCamera() const {
+  return options_.camera_id.empty() ? fmt::format("#{}", options_.camera_index)
+                                    : options_.camera_id;
+}
+
+std::string LibcameraSource::StillMessage(const std::string& message) const {
+  return fmt::format("libcamera camera {}: {}", still_camera_, message);
+}
+
+uint64_t LibcameraSource::TakeStillRequest() {
+  std::lock_guard lock(still_mutex_);
+  return std::exchange(pending_still_id_, 0);
+}
+
+bool LibcameraSource::StillAwaited(uint64_t id) {
+  std::lock_guard lock(still_mutex_);
+  return waiting_still_id_ == id;
+}
+
+void LibcameraSource::AnswerStill(uint64_t id, std::shared_ptr<const StillImage> image,
+                                  std::string error) {
+  {
+    std::lock_guard lock(still_mutex_);
+    if (waiting_still_id_ != id) return;  // the caller gave up
+    still_answer_ = StillAnswer{id, std::move(image), std::move(error)};
+  }
+  still_answered_.notify_all();
+}
+
+void LibcameraSource::FailStills(const std::string& reason) {
+  {
+    std::lock_guard lock(still_mutex_);
+    still_failure_ = reason;
+    pending_still_id_ = 0;
+    if (waiting_still_id_ != 0 && still_answer_.id != waiting_still_id_) {
+      still_answer_ = StillAnswer{waiting_still_id_, nullptr,
+                                  StillMessage(fmt::format("no still: {}", reason))};
+    }
+  }
+  still_answered_.notify_all();
+}
+
 std::string LibcameraSource::Describe() const {
-  const std::string camera =
-      camera_id_.empty() ? (options_.camera_id.empty() ? fmt::format("#{}", options_.camera_index)
-                                                       : options_.camera_id)
-                         : camera_id_;
+  const std::string camera = camera_id_.empty() ? RequestedCamera() : camera_id_;
   return fmt::format("libcamera:{} {}x{} {} {}", camera, format_.width, format_.height,
                      format_.pixel_format,
                      format_.fps > 0.0 ? fmt::format("{:g} fps", format_.fps) : "fps unknown");
