@@ -144,7 +144,9 @@ HullFrameResult BuildFrame(const SilhouetteSource& silhouettes,
     masks[c] = MaskAt(silhouettes, cameras[c], sources[c]);
   TriangleMesh mesh;
   if (config.options.polyhedral) {
-    PolyhedralHullResult exact = ComputePolyhedralHull(cameras, masks);
+    PolyhedralHullOptions exact_options;
+    exact_options.threads = carve.threads;
+    PolyhedralHullResult exact = ComputePolyhedralHull(cameras, masks, exact_options);
     if (exact.success) {
       mesh = std::move(exact.mesh);
       result.method = "polyhedral";
@@ -334,7 +336,8 @@ HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config,
   std::filesystem::create_directories(config.output);
   if (config.options.overlays) std::filesystem::create_directories(config.output / "overlays");
 
-  // Frames run in parallel; a lone frame carves on all threads instead.
+  // Frames run in parallel; a lone frame carves (or computes its cone faces) on all threads
+  // instead.
   const int frame_threads = ResolveThreadCount(config.options.threads, n);
   VoxelHullOptions carve;
   carve.voxel_size = result.voxel_size;

@@ -9,6 +9,7 @@
 #include "aggregator/hulls/in_plane_gap_filler.h"
 #include "aggregator/hulls/mesh_check.h"
 #include "aggregator/hulls/viewing_cone_bounds.h"
+#include "shared/util/parallel_for.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -491,7 +492,7 @@ int TouchesBorder(const std::vector<CameraModel>& cameras,
 
 PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& cameras,
                                            const std::vector<SilhouetteContours>& contours,
-                                           const WorldBox& bounds) {
+                                           const WorldBox& bounds, int threads) {
   PolyhedralHullResult result;
   if (cameras.size() < 2 || contours.size() != cameras.size()) {
     result.reason = fmt::format(
@@ -512,17 +513,18 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     return result;
   }
   const ConePlaneSet set(cameras, contours, bounds);
-  std::vector<FaceRegion> regions;
-  regions.reserve(set.Planes().size());
+  // Every face on its own (in parallel), then assembled in plane order.
+  std::vector<FaceRegion> regions(set.Planes().size());
+  ParallelFor(regions.size(), threads, [&](size_t p) {
+    regions[p] = ComputeFaceRegion(cameras, set, static_cast<int>(p), bounds);
+  });
   HullAssembler assembler(set);
-  for (size_t p = 0; p < set.Planes().size(); ++p) {
-    FaceRegion region = ComputeFaceRegion(cameras, set, static_cast<int>(p), bounds);
+  for (const FaceRegion& region : regions) {
     if (!region.success) {
       result.reason = region.reason;
       return result;
     }
     assembler.AddCorners(region);
-    regions.push_back(std::move(region));
   }
   assembler.IndexCuts();
   for (const FaceRegion& region : regions)
@@ -568,16 +570,16 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
   contour_options.cover_pixel_centres = options.contour_cover_pixel_centres;
   contour_options.cover_margin_px = options.contour_cover_margin_px;
   contour_options.cover_background_slack_px = options.contour_cover_background_slack_px;
-  std::vector<SilhouetteContours> contours;
-  std::vector<cv::Rect> rects;
-  contours.reserve(masks.size());
   for (size_t v = 0; v < masks.size(); ++v) {
-    const cv::Mat& mask = masks[v];
-    result.reason = MaskShapeProblem(cameras[v], mask);
+    result.reason = MaskShapeProblem(cameras[v], masks[v]);
     if (!result.reason.empty()) return result;
-    contours.push_back(ExtractContours(mask, contour_options));
-    rects.push_back(PixelRect(contours.back(), mask.size()));
   }
+  std::vector<SilhouetteContours> contours(masks.size());
+  std::vector<cv::Rect> rects(masks.size());
+  ParallelFor(masks.size(), options.threads, [&](size_t v) {
+    contours[v] = ExtractContours(masks[v], contour_options);
+    rects[v] = PixelRect(contours[v], masks[v].size());
+  });
   const ViewingConeBounds bounds = ComputeViewingConeBounds(cameras, rects);
   if (!bounds.success) {
     result.reason = bounds.reason;
@@ -587,7 +589,7 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
   const Eigen::Vector3d pad = options.bounds_padding * box.sizes();
   box.min() -= pad;
   box.max() += pad;
-  return ComputePolyhedralHull(cameras, contours, box);
+  return ComputePolyhedralHull(cameras, contours, box, options.threads);
 }
 
 }  // namespace silnet::aggregator

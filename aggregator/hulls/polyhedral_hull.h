@@ -67,15 +67,20 @@ struct PolyhedralHullOptions {
   double contour_cover_margin_px = 0.1;
   double contour_cover_background_slack_px = 0.15;  // see CoveringOptions
   double bounds_padding = 0.05;  // viewing-cone bounds are grown by this fraction per side
+  // Threads for the contours and the cone faces (0 = every core). The mesh is the same for
+  // any count. Callers that build several hulls at once (a sequence of frames) keep 1.
+  int threads = 1;
 };
 
 // Builds the hull from one silhouette outline per camera (pixels of the camera's image, as
 // ExtractContours gives them) inside `bounds`, which must contain the hull and lie in front
 // of every camera. Fails as data (never throws) on empty silhouettes, silhouettes touching
 // the image border (the subject may continue outside it), or a mesh that is not closed.
+// The cone faces are computed on `threads` threads (0 = every core); the mesh does not depend
+// on the count.
 PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& cameras,
                                            const std::vector<SilhouetteContours>& contours,
-                                           const WorldBox& bounds);
+                                           const WorldBox& bounds, int threads = 1);
 
 // The same from CV_8UC1 masks (non-zero = silhouette), with bounds from the viewing cones.
 PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& cameras,

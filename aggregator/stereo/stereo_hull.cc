@@ -104,7 +104,9 @@ BorderCarving CarveByBorderViews(const CutSilhouettes& border, const CutSilhouet
 
 PolyhedralHullResult ComputeStereoHull(const CutSilhouettes& views, int threads,
                                        std::vector<std::string>* warnings) {
-  PolyhedralHullResult exact = ComputePolyhedralHull(views.cameras, views.masks);
+  PolyhedralHullOptions exact_options;
+  exact_options.threads = threads;
+  PolyhedralHullResult exact = ComputePolyhedralHull(views.cameras, views.masks, exact_options);
   if (exact.success) return exact;
   VoxelHullOptions carve;
   carve.voxel_size = FootprintAtConesCentre(views);

@@ -179,6 +179,34 @@ void BM_PolyhedralHullAlien(benchmark::State& state) {
 }
 BENCHMARK(BM_PolyhedralHullAlien)->Arg(4)->Arg(8)->Arg(12)->Arg(16)->Unit(benchmark::kMillisecond);
 
+// Args: views, threads. The same on several threads (cone faces and contours in parallel).
+void BM_PolyhedralHullAlienThreads(benchmark::State& state) {
+  const RealCapture* alien = Alien();
+  if (!alien) {
+    state.SkipWithError("no real data beside the project");
+    return;
+  }
+  const auto views = static_cast<long>(state.range(0));
+  const std::vector<CameraModel> cameras(alien->cameras.begin(), alien->cameras.begin() + views);
+  const std::vector<cv::Mat> masks(alien->masks.begin(), alien->masks.begin() + views);
+  PolyhedralHullOptions options;
+  options.threads = static_cast<int>(state.range(1));
+  PolyhedralHullResult hull;
+  for (auto _ : state) {
+    hull = ComputePolyhedralHull(cameras, masks, options);
+    if (!hull.success) state.SkipWithError(hull.reason.c_str());
+    benchmark::DoNotOptimize(hull.mesh.triangles.size());
+  }
+  state.counters["triangles"] = static_cast<double>(hull.mesh.triangles.size());
+}
+BENCHMARK(BM_PolyhedralHullAlienThreads)
+    ->Args({8, 1})
+    ->Args({8, 2})
+    ->Args({16, 1})
+    ->Args({16, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 // Arg: views. Only the contour extraction of the above (default options), to split its cost.
 void BM_AlienContours(benchmark::State& state) {
   const RealCapture* alien = Alien();
