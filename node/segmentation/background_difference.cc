@@ -45,6 +45,12 @@ BackgroundDifference SegmentAgainstBackground(const cv::Mat& still, const cv::Ma
   }
   if (candidates) ResolveShadowCandidates(result.mask, ratio, o.shadow_texture);
   result.cleanup = node::CleanMask(&result.mask, o);
+  if (options.fill_camouflaged_holes) {
+    CamouflageOptions camouflage = options.camouflage;
+    camouflage.threshold = o.min_difference;
+    result.camouflaged_holes_filled =
+        FillCamouflagedHoles(&result.mask, still, background, camouflage);
+  }
   return result;
 }
 

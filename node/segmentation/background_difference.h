@@ -7,10 +7,12 @@
 // (darker by a ratio in [shadow_min_ratio, shadow_max_ratio] with unchanged chromaticity and the
 // background's texture, thesis B-1.1, shadow_texture.h); then the node's clean-up
 // (node/segmentation/mask_cleanup.h: opening, closing, small blobs removed, small holes filled)
-// applies.
+// applies, and holes that show the subject's texture rather than the background's are filled
+// (camouflaged_holes.h).
 
 #include <opencv2/core/mat.hpp>
 
+#include "node/segmentation/camouflaged_holes.h"
 #include "node/segmentation/mask_cleanup.h"
 #include "node/segmentation/segmentation_options.h"
 
@@ -23,6 +25,8 @@ namespace silnet::node {
 // 1280x960) where 25 DN lost whole limbs (0.87-0.90).
 struct BackgroundDifferenceOptions {
   SegmentationOptions node;
+  bool fill_camouflaged_holes = true;
+  CamouflageOptions camouflage;
 };
 
 // The silhouette (CV_8UC1, 0/255) of `still` against `background` (both CV_8UC3, one
@@ -30,6 +34,7 @@ struct BackgroundDifferenceOptions {
 struct BackgroundDifference {
   cv::Mat mask;
   CleanupStats cleanup;
+  int camouflaged_holes_filled = 0;
 };
 BackgroundDifference SegmentAgainstBackground(const cv::Mat& still, const cv::Mat& background,
                                               const BackgroundDifferenceOptions& options = {});

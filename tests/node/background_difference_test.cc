@@ -20,10 +20,10 @@ cv::Mat Background(int seed) {
   return image;
 }
 
-cv::Mat WithNoise(const cv::Mat& image, int seed) {
+cv::Mat WithNoise(const cv::Mat& image, int seed, double sigma = 3.0) {
   cv::Mat noise(image.size(), CV_16SC3), out;
   cv::RNG rng(static_cast<uint64_t>(seed));
-  rng.fill(noise, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(3));
+  rng.fill(noise, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(sigma));
   image.convertTo(out, CV_16SC3);
   out += noise;
   out.convertTo(out, CV_8UC3);
@@ -73,6 +73,41 @@ TEST(BackgroundDifferenceTest, KeepsASubjectOfTheWallsColourThatIsNoShadow) {
         SegmentAgainstBackground(WithNoise(still, 200 + seed), background);
     EXPECT_GT(cv::countNonZero(result.mask(subject)), 0.97 * subject.area()) << "seed " << seed;
     EXPECT_EQ(cv::countNonZero(result.mask(shadow)), 0) << "seed " << seed;
+  }
+}
+
+// A subject in front of a faintly textured grey wall, with a hole through it that shows the
+// wall and a patch of its own blotchy texture within the threshold of the wall's colour
+// ("camouflage"): the patch is filled, the hole stays; without the camouflage test the patch
+// would be a hole too.
+TEST(BackgroundDifferenceTest, FillsCamouflagedPatchesButNotTrueHoles) {
+  for (int seed = 1; seed <= 3; ++seed) {
+    cv::RNG rng(static_cast<uint64_t>(seed));
+    cv::Mat grey(120, 160, CV_8UC1), background;
+    rng.fill(grey, cv::RNG::UNIFORM, 100, 105);
+    cv::cvtColor(grey, background, cv::COLOR_GRAY2BGR);
+    cv::Mat still = background.clone();
+    const cv::Rect subject(30, 20, 80, 80), hole(42, 45, 16, 16), patch(78, 45, 16, 16);
+    still(subject).setTo(cv::Scalar(40, 60, 200));
+    background(hole).copyTo(still(hole));
+    for (int y = patch.y; y < patch.br().y; ++y) {
+      for (int x = patch.x; x < patch.br().x; ++x) {
+        const int blotch = ((x / 4) * 7 + (y / 4) * 13 + seed) % 3 == 0 ? 6 : -6;
+        for (int c = 0; c < 3; ++c) {
+          still.at<cv::Vec3b>(y, x)[c] =
+              cv::saturate_cast<uchar>(background.at<cv::Vec3b>(y, x)[c] + blotch);
+        }
+      }
+    }
+    const cv::Mat noisy = WithNoise(still, 300 + seed, 1.5);
+    const BackgroundDifference result = SegmentAgainstBackground(noisy, background);
+    EXPECT_GE(cv::countNonZero(result.mask(patch)), 0.97 * patch.area()) << "seed " << seed;
+    EXPECT_LE(cv::countNonZero(result.mask(hole)), 0.05 * hole.area()) << "seed " << seed;
+    EXPECT_GE(result.camouflaged_holes_filled, 1) << "seed " << seed;
+    BackgroundDifferenceOptions plain;
+    plain.fill_camouflaged_holes = false;
+    const BackgroundDifference without = SegmentAgainstBackground(noisy, background, plain);
+    EXPECT_LT(cv::countNonZero(without.mask(patch)), 0.5 * patch.area()) << "seed " << seed;
   }
 }
 
