@@ -1,6 +1,9 @@
 #include "aggregator/calibration/ground_truth_comparison.h"
 
+#include <fmt/format.h>
+
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 #include <algorithm>
 
 #include "shared/util/check.h"
@@ -42,25 +45,68 @@ std::pair<Eigen::Matrix3Xd, Eigen::Matrix3Xd> Centres(const CameraPairs& matched
   return {src, dst};
 }
 
-}  // namespace
-
-std::vector<CameraModel> AlignedToGroundTruth(const std::vector<CameraModel>& estimated,
-                                              const std::vector<CameraModel>& truth) {
-  const auto [src, dst] = Centres(MatchCameras(estimated, nullptr, truth));
-  const Eigen::Matrix4d similarity = Eigen::umeyama(src, dst, true);
+// `cameras` moved into the frame X' = similarity * X (uniform scale).
+std::vector<CameraModel> Moved(std::vector<CameraModel> cameras,
+                               const Eigen::Matrix4d& similarity) {
   const Eigen::Matrix3d sq = similarity.topLeftCorner<3, 3>();
   const double scale = std::cbrt(sq.determinant());
   const Eigen::Matrix3d q = sq / scale;
   const Eigen::Vector3d shift = similarity.topRightCorner<3, 1>();
   // X_true = scale q X + shift; x_cam = R X + t becomes, scaled by `scale`,
   // x_cam = R q^T X_true + scale t - R q^T shift.
-  std::vector<CameraModel> aligned = estimated;
-  for (CameraModel& c : aligned) {
+  for (CameraModel& c : cameras) {
     const Eigen::Matrix3d rotation = c.R * q.transpose();
     c.t = scale * c.t - rotation * shift;
     c.R = rotation;
   }
-  return aligned;
+  return cameras;
+}
+
+// Linear triangulation of one point from its undistorted pixels in two or more cameras.
+Eigen::Vector3d TriangulateViews(const std::vector<const CameraModel*>& cameras,
+                                 const std::vector<Eigen::Vector2d>& pixels) {
+  Eigen::MatrixXd a(2 * cameras.size(), 4);
+  for (size_t k = 0; k < cameras.size(); ++k) {
+    const Matrix34d p = cameras[k]->ProjectionMatrix();
+    const auto row = static_cast<Eigen::Index>(2 * k);
+    a.row(row) = pixels[k].x() * p.row(2) - p.row(0);
+    a.row(row + 1) = pixels[k].y() * p.row(2) - p.row(1);
+  }
+  const Eigen::Vector4d x =
+      Eigen::JacobiSVD<Eigen::MatrixXd>(a, Eigen::ComputeFullV).matrixV().col(3);
+  return x.hnormalized();
+}
+
+}  // namespace
+
+std::vector<CameraModel> AlignedAtSubject(const std::vector<CameraModel>& estimated,
+                                          const std::vector<CameraModel>& truth,
+                                          const std::vector<Eigen::Vector3d>& subject) {
+  const CameraPairs matched = MatchCameras(estimated, nullptr, truth);
+  const size_t step = std::max<size_t>(1, subject.size() / 5000);
+  std::vector<Eigen::Vector3d> from, to;
+  for (size_t k = 0; k < subject.size(); k += step) {
+    std::vector<const CameraModel*> seen_by;
+    std::vector<Eigen::Vector2d> pixels;
+    for (const auto& [est, tru] : matched) {
+      const auto pixel = tru->Project(subject[k]);
+      if (!pixel || !tru->InImage(*pixel)) continue;
+      seen_by.push_back(est);
+      pixels.push_back(est->UndistortPixel(*pixel));
+    }
+    if (seen_by.size() < 2) continue;
+    from.push_back(TriangulateViews(seen_by, pixels));
+    to.push_back(subject[k]);
+  }
+  if (from.size() < 100)
+    throw InputError(fmt::format("only {} subject points are seen by two cameras", from.size()));
+  Eigen::Matrix3Xd src(3, static_cast<Eigen::Index>(from.size()));
+  Eigen::Matrix3Xd dst(3, static_cast<Eigen::Index>(to.size()));
+  for (size_t k = 0; k < from.size(); ++k) {
+    src.col(static_cast<Eigen::Index>(k)) = from[k];
+    dst.col(static_cast<Eigen::Index>(k)) = to[k];
+  }
+  return Moved(estimated, Eigen::umeyama(src, dst, true));
 }
 
 CalibrationErrors CompareWithGroundTruth(const std::vector<CameraModel>& estimated,

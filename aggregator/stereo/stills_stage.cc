@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "aggregator/ingest/still_views.h"
+#include "aggregator/stereo/stereo_truth.h"
 #include "aggregator/stereo/stills_folder.h"
 #include "shared/io/calibration_yaml.h"
 #include "shared/util/check.h"
@@ -10,15 +11,19 @@
 namespace silnet::aggregator {
 namespace {
 
-// Brings the views' cameras into the frame of the true stills folder and copies its surface
-// beside the stills; returns how far the calibration in use is off.
+// Brings the views' cameras into the frame of the true stills folder, registered at the
+// subject (AlignedAtSubject: the model is scored for its shape, not for where camera centres
+// metres away put it), and copies its surface beside the stills; returns how far the
+// calibration in use is off.
 CalibrationErrors AlignToTruth(const std::filesystem::path& truth, const std::filesystem::path& out,
                                StereoViews* views) {
   const std::vector<CameraModel> true_cameras = LoadCalibration(truth / "calibration.yaml");
   const std::vector<CameraModel> used = views->Cameras();
   const CalibrationErrors errors =
       CompareWithGroundTruth(used, std::vector<bool>(used.size(), true), true_cameras);
-  const std::vector<CameraModel> aligned = AlignedToGroundTruth(used, true_cameras);
+  const std::optional<StereoTruth> surface = LoadStereoTruth(truth);
+  if (!surface) throw InputError(truth.string() + " has no gt_surface.ply");
+  const std::vector<CameraModel> aligned = AlignedAtSubject(used, true_cameras, surface->points);
   for (size_t i = 0; i < aligned.size(); ++i)
     views->views[i].camera = aligned[i];
   std::filesystem::copy_file(truth / "gt_surface.ply", out / "gt_surface.ply",

@@ -157,40 +157,18 @@ const RealCapture* Alien() {
   return capture.get();
 }
 
-// Arg: views (cameras 0..k-1). The exact hull from masks, everything included (contours, cone
-// bounds, faces, mesh), as EPVH's figures in docs/PERFORMANCE.md.
-void BM_PolyhedralHullAlien(benchmark::State& state) {
+// The exact hull of alien cameras 0..views-1 from masks, everything included (contours, cone
+// bounds, faces, mesh), on `threads` threads.
+void RunPolyhedralHullAlien(benchmark::State& state, long views, int threads) {
   const RealCapture* alien = Alien();
   if (!alien) {
     state.SkipWithError("no real data beside the project");
     return;
   }
-  const auto views = static_cast<long>(state.range(0));
-  const std::vector<CameraModel> cameras(alien->cameras.begin(), alien->cameras.begin() + views);
-  const std::vector<cv::Mat> masks(alien->masks.begin(), alien->masks.begin() + views);
-  PolyhedralHullResult hull;
-  for (auto _ : state) {
-    hull = ComputePolyhedralHull(cameras, masks);
-    if (!hull.success) state.SkipWithError(hull.reason.c_str());
-    benchmark::DoNotOptimize(hull.mesh.triangles.size());
-  }
-  state.counters["triangles"] = static_cast<double>(hull.mesh.triangles.size());
-  state.counters["cone_faces"] = static_cast<double>(hull.stats.cone_faces);
-}
-BENCHMARK(BM_PolyhedralHullAlien)->Arg(4)->Arg(8)->Arg(12)->Arg(16)->Unit(benchmark::kMillisecond);
-
-// Args: views, threads. The same on several threads (cone faces and contours in parallel).
-void BM_PolyhedralHullAlienThreads(benchmark::State& state) {
-  const RealCapture* alien = Alien();
-  if (!alien) {
-    state.SkipWithError("no real data beside the project");
-    return;
-  }
-  const auto views = static_cast<long>(state.range(0));
   const std::vector<CameraModel> cameras(alien->cameras.begin(), alien->cameras.begin() + views);
   const std::vector<cv::Mat> masks(alien->masks.begin(), alien->masks.begin() + views);
   PolyhedralHullOptions options;
-  options.threads = static_cast<int>(state.range(1));
+  options.threads = threads;
   PolyhedralHullResult hull;
   for (auto _ : state) {
     hull = ComputePolyhedralHull(cameras, masks, options);
@@ -198,6 +176,19 @@ void BM_PolyhedralHullAlienThreads(benchmark::State& state) {
     benchmark::DoNotOptimize(hull.mesh.triangles.size());
   }
   state.counters["triangles"] = static_cast<double>(hull.mesh.triangles.size());
+  state.counters["cone_faces"] = static_cast<double>(hull.stats.cone_faces);
+}
+
+// Arg: views. One thread, as EPVH's figures in docs/PERFORMANCE.md.
+void BM_PolyhedralHullAlien(benchmark::State& state) {
+  RunPolyhedralHullAlien(state, static_cast<long>(state.range(0)), 1);
+}
+BENCHMARK(BM_PolyhedralHullAlien)->Arg(4)->Arg(8)->Arg(12)->Arg(16)->Unit(benchmark::kMillisecond);
+
+// Args: views, threads (cone faces and contours in parallel).
+void BM_PolyhedralHullAlienThreads(benchmark::State& state) {
+  RunPolyhedralHullAlien(state, static_cast<long>(state.range(0)),
+                         static_cast<int>(state.range(1)));
 }
 BENCHMARK(BM_PolyhedralHullAlienThreads)
     ->Args({8, 1})

@@ -530,25 +530,27 @@ TEST(V4l2Source, SystemDeviceRejectsNodesThatAreNoCameras) {
   EXPECT_TRUE(HasText(missing_error, "cannot open"));
 }
 
+// The CaptureError a V4l2Source constructed with `options` throws ("" if none).
+std::string ConstructionError(V4l2SourceOptions options) {
+  try {
+    V4l2Source source(std::move(options),
+                      FakeV4l2Device::Handle(std::make_shared<FakeV4l2Device>(FakeV4l2Config{})));
+  } catch (const CaptureError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 TEST(V4l2Source, RejectsBadOptionsNamingTheDevice) {
-  const auto error_of = [](V4l2SourceOptions options) -> std::string {
-    try {
-      V4l2Source source(std::move(options),
-                        FakeV4l2Device::Handle(std::make_shared<FakeV4l2Device>(FakeV4l2Config{})));
-    } catch (const CaptureError& e) {
-      return e.what();
-    }
-    return "";
-  };
   V4l2SourceOptions options = SmallOptions();
   options.width = 0;
-  EXPECT_TRUE(HasText(error_of(options), "/dev/video0"));
+  EXPECT_TRUE(HasText(ConstructionError(options), "/dev/video0"));
   options = SmallOptions();
   options.fps = -1.0;
-  EXPECT_TRUE(HasText(error_of(options), "frame rate"));
+  EXPECT_TRUE(HasText(ConstructionError(options), "frame rate"));
   options = SmallOptions();
   options.buffer_count = 0;
-  EXPECT_TRUE(HasText(error_of(options), "buffer count"));
+  EXPECT_TRUE(HasText(ConstructionError(options), "buffer count"));
 }
 
 TEST(V4l2Source, BuffersAreAlwaysRequeuedOverALongScript) {
@@ -1176,24 +1178,15 @@ TEST(V4l2SourceStill, CloseWakesAWaitingStill) {
 }
 
 TEST(V4l2SourceStill, RejectsBadStillOptions) {
-  const auto error_of = [](V4l2SourceOptions options) -> std::string {
-    try {
-      V4l2Source source(std::move(options),
-                        FakeV4l2Device::Handle(std::make_shared<FakeV4l2Device>(FakeV4l2Config{})));
-    } catch (const CaptureError& e) {
-      return e.what();
-    }
-    return "";
-  };
   V4l2SourceOptions options = StillOptions();
   options.still_settle_frames = -1;
-  EXPECT_TRUE(HasText(error_of(options), "settle frames"));
+  EXPECT_TRUE(HasText(ConstructionError(options), "settle frames"));
   options = StillOptions();
   options.still_timeout = milliseconds(0);
-  EXPECT_TRUE(HasText(error_of(options), "still timeout"));
+  EXPECT_TRUE(HasText(ConstructionError(options), "still timeout"));
   options = StillOptions();
   options.still_settle_frames = 0;
-  EXPECT_EQ(error_of(options), "");
+  EXPECT_EQ(ConstructionError(options), "");
 }
 
 TEST(FakeV4l2Device, EnumeratesFrameSizesAndRefusesFormatChangesWhileBusy) {
