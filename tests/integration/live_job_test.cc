@@ -209,9 +209,16 @@ TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsStillsModelAndReport) {
   EXPECT_EQ(static_cast<int>(stereo["model"]["closed_manifold"]), 1);
   const double accuracy = stereo["model"]["evaluation"]["accuracy_footprints"];
   const double hull_accuracy = stereo["hull"]["evaluation"]["accuracy_footprints"];
-  std::printf("statue from the live calibration: accuracy %.2f fp (hull %.2f)\n", accuracy,
-              hull_accuracy);
+  const double within_2fp = stereo["model"]["evaluation"]["completeness"][1]["fraction"];
+  std::printf(
+      "statue from the live calibration: accuracy %.2f fp (hull %.2f), %.1f %% within 2 fp\n",
+      accuracy, hull_accuracy, 100 * within_2fp);
   EXPECT_LT(accuracy, hull_accuracy);
+  // Measured 1.79 fp and 94.2 % (registered at the statue; the stereo issue's targets are 1.5 fp
+  // and 97 %, which the exact silhouettes reach: the nodes' single-still segmentation is what
+  // is left, docs/PERFORMANCE.md).
+  EXPECT_LE(accuracy, 2.5);
+  EXPECT_GE(within_2fp, 0.88);
   EXPECT_NE(live.Stdout().find("stills       8 of 8 cameras"), std::string::npos) << live.Stdout();
 }
 
