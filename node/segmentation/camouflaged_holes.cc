@@ -49,25 +49,46 @@ int FillCamouflagedHoles(cv::Mat* mask, const cv::Mat& still, const cv::Mat& bac
     mark(y, 0);
     mark(y, labels.cols - 1);
   }
-  std::vector<HoleSums> holes(static_cast<size_t>(count));
+  // Bays: background pixels reaching the scene that closing the silhouette would cover.
+  cv::Mat bays;
+  int bay_count = 0;
+  const int radius = static_cast<int>(
+      std::lround(options.bay_radius_fraction * std::hypot(mask->cols, mask->rows)));
+  if (radius > 0) {
+    cv::Mat closed;
+    cv::morphologyEx(
+        *mask, closed, cv::MORPH_CLOSE,
+        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1)));
+    bay_count = cv::connectedComponents((closed != 0) & (*mask == 0), bays, 4, CV_32S);
+  }
+  // Candidates: the enclosed holes (their background label) and the bays (count + bay label).
+  const auto candidate = [&](int y, int x) -> int {
+    const int l = labels.at<int>(y, x);
+    if (!outside[static_cast<size_t>(l)]) return l;
+    if (bay_count > 1) {
+      const int b = bays.at<int>(y, x);
+      if (b > 0) return count + b;
+    }
+    return -1;
+  };
+  std::vector<HoleSums> holes(static_cast<size_t>(count + std::max(bay_count, 1)));
   const double threshold2 = 4.0 * options.threshold * options.threshold;
   std::vector<float> noise;
   for (int y = 0; y < labels.rows; ++y) {
-    const int* label = labels.ptr<int>(y);
     const uint8_t* in = mask->ptr<uint8_t>(y);
     const auto* photo = still.ptr<cv::Vec3b>(y);
     const auto* scene = background.ptr<cv::Vec3b>(y);
     for (int x = 0; x < labels.cols; ++x) {
       if (in[x] != 0) continue;
-      const auto l = static_cast<size_t>(label[x]);
+      const int c = candidate(y, x);
       const double d2 = SquaredDistance(photo[x], scene[x]);
-      if (outside[l]) {
+      if (c < 0) {
         if (((x | y) & 1) == 0) noise.push_back(static_cast<float>(std::sqrt(d2)));
         continue;
       }
       const double a = (photo[x][0] + photo[x][1] + photo[x][2]) / 3.0;
       const double b = (scene[x][0] + scene[x][1] + scene[x][2]) / 3.0;
-      HoleSums& h = holes[l];
+      HoleSums& h = holes[static_cast<size_t>(c)];
       h.n += 1;
       h.a += a;
       h.b += b;
@@ -81,23 +102,24 @@ int FillCamouflagedHoles(cv::Mat* mask, const cv::Mat& still, const cv::Mat& bac
   if (noise.empty()) return 0;
   std::nth_element(noise.begin(), noise.begin() + static_cast<long>(noise.size() / 2), noise.end());
   const double typical = std::max(1.0, static_cast<double>(noise[noise.size() / 2]));
-  std::vector<bool> fill(static_cast<size_t>(count), false);
+  std::vector<bool> fill(holes.size(), false);
   int filled = 0;
-  for (size_t l = 0; l < holes.size(); ++l) {
-    const HoleSums& h = holes[l];
-    if (outside[l] || h.n < options.min_area) continue;
+  for (size_t c = 0; c < holes.size(); ++c) {
+    const HoleSums& h = holes[c];
+    if (h.n < options.min_area) continue;
     if (h.shadow <= options.max_shadow_share * h.n && h.Correlation() < options.max_correlation &&
         h.RmsDistance() > options.min_difference_over_noise * typical) {
-      fill[l] = true;
+      fill[c] = true;
       ++filled;
     }
   }
   if (filled == 0) return 0;
   for (int y = 0; y < labels.rows; ++y) {
-    const int* label = labels.ptr<int>(y);
     uint8_t* out = mask->ptr<uint8_t>(y);
     for (int x = 0; x < labels.cols; ++x) {
-      if (fill[static_cast<size_t>(label[x])]) out[x] = 255;
+      if (out[x] != 0) continue;
+      const int c = candidate(y, x);
+      if (c >= 0 && fill[static_cast<size_t>(c)]) out[x] = 255;
     }
   }
   return filled;

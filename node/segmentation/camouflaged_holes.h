@@ -27,11 +27,15 @@ struct CamouflageOptions {
   double max_shadow_share = 0.05;
   double threshold = 12.0;  // the segmentation's colour distance threshold (digital numbers)
   int min_area = 16;        // smaller holes are left to the clean-up (max_hole_area)
+  // Bays are tested too: the background pixels next to the silhouette that closing it with a
+  // disc of this radius (a fraction of the image diagonal) would cover; 0: holes only.
+  double bay_radius_fraction = 0.01;
 };
 
 // Fills the holes of `mask` (CV_8UC1 0/255, 255 silhouette; background regions that do not
-// reach the image border) that the photo `still` shows as the subject against `background`
-// (CV_8UC3, the mask's size). Returns how many were filled.
+// reach the image border) and its bays (notches in its outline) that the photo `still` shows
+// as the subject against `background` (CV_8UC3, the mask's size). Returns how many were
+// filled.
 int FillCamouflagedHoles(cv::Mat* mask, const cv::Mat& still, const cv::Mat& background,
                          const CamouflageOptions& options = {});
 
