@@ -8,12 +8,14 @@
 #include <mutex>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <thread>
 
 #include "node/publish/frame_history.h"
 #include "node/publish/frame_recorder.h"
 #include "node/publish/still_store.h"
 #include "node/segmentation/background_difference.h"
+#include "shared/dds/still_command.h"
 #include "shared/io/session_log_reader.h"
 #include "shared/util/bounded_queue.h"
 
@@ -73,6 +75,7 @@ struct CameraNode::State {
   // A still to encode and send (photo non-empty), or chunks of a held one to send again.
   struct StillJob {
     uint64_t still_id = 0;
+    bool background = false;  // of the empty scene: kept to segment later stills
     uint64_t frame_index = 0;
     uint32_t frame_flags = 0;
     int64_t capture_time_ns = 0;
@@ -94,6 +97,9 @@ struct CameraNode::State {
   BoundedQueue<PublishJob> publish_queue;
   StillRequests still_requests;
   StillStore still_store;
+  std::mutex background_mutex;
+  std::set<uint64_t> background_ids;  // requested stills of the empty scene
+  cv::Mat still_background;           // the last one taken (the source's still size)
   BoundedQueue<StillJob> still_queue{64};
   std::mutex info_mutex;
   CameraInfoRecord info;
@@ -394,9 +400,14 @@ void CameraNode::State::HandleCommand(const silnet_wire_Command& command) {
         still_queue.TryPush(std::move(again));
         break;
       }
+      const bool background = name == dds::kStillKind && value == dds::kBackgroundStill;
+      if (background) {
+        std::lock_guard lock(background_mutex);
+        background_ids.insert(command.still_id);
+      }
       still_requests.Add(command.still_id, command.from_frame);
-      spdlog::info("command {}: still {} from frame {} on", command.command_id, command.still_id,
-                   command.from_frame);
+      spdlog::info("command {}: still {}{} from frame {} on", command.command_id, command.still_id,
+                   background ? " of the empty scene" : "", command.from_frame);
       break;
     }
     case silnet_wire_COMMAND_RESEND_STILL: {
@@ -483,6 +494,10 @@ void CameraNode::State::QueueStills(const std::vector<uint64_t>& ids, const Capt
   for (uint64_t id : ids) {
     StillJob job;
     job.still_id = id;
+    {
+      std::lock_guard lock(background_mutex);
+      job.background = background_ids.erase(id) > 0;
+    }
     job.frame_index = frame.frame_index;
     job.frame_flags = flags;
     job.capture_time_ns = frame.capture_time_ns;
@@ -496,23 +511,38 @@ void CameraNode::State::QueueStills(const std::vector<uint64_t>& ids, const Capt
 }
 
 // The photo and silhouette of a still: the frame and its silhouette, or the source's own
-// still with its silhouette against the still stream's background (else the frame's
-// silhouette brought to the still's size).
+// still segmented against the still stream's background (the source's own, else the node's
+// last still of the empty scene at that size; else the frame's silhouette brought to the
+// still's size). A still of the empty scene is kept as that background; its silhouette is
+// empty.
 StillPicture CameraNode::State::PictureOf(const StillJob& job) {
   CapturedFrame frame;
   frame.frame_index = job.frame_index;
   frame.capture_time_ns = job.capture_time_ns;
   frame.image = job.photo;
   std::optional<StillPhoto> own = source->TakeStill(frame);
-  if (!own) return {job.photo, job.silhouette, job.frame_flags};
-  if (own->background.empty()) {
-    cv::Mat resized;
-    cv::resize(job.silhouette, resized, own->photo.size(), 0, 0, cv::INTER_LINEAR);
-    return {own->photo, resized >= 128, job.frame_flags};
+  cv::Mat photo = own ? own->photo : job.photo;
+  if (job.background) {
+    std::lock_guard lock(background_mutex);
+    still_background = photo.clone();
+    spdlog::info("still {}: kept as the empty scene ({}x{})", job.still_id, photo.cols, photo.rows);
+    return {photo, cv::Mat::zeros(photo.size(), CV_8UC1), silnet_wire_FRAME_EMPTY};
   }
-  cv::Mat mask = SegmentAgainstBackground(own->photo, own->background).mask;
+  if (!own) return {job.photo, job.silhouette, job.frame_flags};
+  cv::Mat background = own->background;
+  if (background.empty()) {
+    std::lock_guard lock(background_mutex);
+    if (still_background.size() == photo.size() && still_background.type() == photo.type())
+      background = still_background;
+  }
+  if (background.empty()) {
+    cv::Mat resized;
+    cv::resize(job.silhouette, resized, photo.size(), 0, 0, cv::INTER_LINEAR);
+    return {photo, resized >= 128, job.frame_flags};
+  }
+  cv::Mat mask = SegmentAgainstBackground(photo, background).mask;
   const uint32_t flags = cv::countNonZero(mask) == 0 ? silnet_wire_FRAME_EMPTY : 0u;
-  return {own->photo, std::move(mask), flags};
+  return {photo, std::move(mask), flags};
 }
 
 // A finite source has ended (the node lingers): requests that the last frame satisfies (asked

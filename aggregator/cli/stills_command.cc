@@ -27,7 +27,7 @@ struct StillsArgs {
   std::string out, calibration, truth;
   double at_s = -1.0;  // reference time of the still, seconds (negative: each node's next frame)
   double timeout_s = 30.0, discovery_s = 5.0;
-  bool stereo = false, no_stereo = false, no_wait = false;
+  bool stereo = false, no_stereo = false, no_wait = false, background = false;
   int domain = -1;
   bool loopback = false;
 };
@@ -44,6 +44,7 @@ int AskLiveJob(const StillsArgs& args) {
       fmt::format("{}-{}", getpid(), std::chrono::system_clock::now().time_since_epoch().count());
   request.at_s = args.at_s;
   request.stereo = !args.no_stereo;
+  request.background = args.background;
   const int pid = RequestStills(args.out, request);
   std::printf("asked the live job (process %d) for stills into %s/stills\n", pid, args.out.c_str());
   if (args.no_wait) return 0;
@@ -72,10 +73,13 @@ int RunStills(const StillsArgs& args) {
   if (args.calibration.empty()) return AskLiveJob(args);
   if (args.no_stereo || args.no_wait)
     throw InputError("--no-stereo and --no-wait are for asking a live job (without --calib)");
+  if (args.background && args.stereo)
+    throw InputError("--background takes stills of the empty scene: no model to build");
   StillsStageConfig config;
   config.cameras = LoadCalibration(args.calibration);
   config.output = args.out;
   config.stereo = args.stereo;
+  config.collect.background = args.background;
   config.truth = args.truth;
   StillCollectorOptions& collect = config.collect;
   collect.domain = dds::DomainConfig::FromEnvironment();
@@ -93,6 +97,13 @@ int RunStills(const StillsArgs& args) {
   const StillsStageResult& result = *run;
   for (const std::string& warning : result.warnings)
     std::printf("  %s\n", warning.c_str());
+  if (args.background) {
+    std::printf(
+        "stills: %zu of %zu cameras sent the empty scene in %.1f s (kept on the nodes for "
+        "their next stills) -> %s/<camera>/background.png\n",
+        result.views, config.cameras.size(), result.collection.seconds, args.out.c_str());
+    return result.failure.empty() ? 0 : 3;
+  }
   std::printf("stills: %zu of %zu cameras answered with a complete still in %.1f s -> %s\n",
               result.views, config.cameras.size(), result.collection.seconds, args.out.c_str());
   if (result.calibration_vs_truth) {
@@ -140,6 +151,11 @@ Command AddStillsCommand(CLI::App& app) {
                 "with --calib: then build the stereo model into <out>/stereo");
   cmd->add_flag("--no-stereo", args->no_stereo,
                 "without --calib: the live job collects the stills without building a model");
+  cmd->add_flag("--background", args->background,
+                "stills of the empty scene: every node keeps its own to segment its later "
+                "full-resolution stills against (sources without a background of their own: "
+                "V4L2, libcamera); written as OUT/<camera>/background.png (a live job: "
+                "OUT/backgrounds)");
   cmd->add_flag("--no-wait", args->no_wait,
                 "without --calib: return once asked instead of following the job's answer");
   cmd->add_option("--truth", args->truth,

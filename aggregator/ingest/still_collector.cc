@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "shared/dds/participant.h"
+#include "shared/dds/still_command.h"
 #include "shared/dds/topics.h"
 #include "shared/util/check.h"
 #include "shared/util/realtime_clock.h"
@@ -131,6 +132,10 @@ class Collector {
     silnet_wire_Command command{};
     command.kind = silnet_wire_COMMAND_CAPTURE_STILL;
     command.from_frame = t.from_frame;
+    if (options_.background) {
+      dds::CopyBoundedString(dds::kStillKind, command.parameter.name, "parameter name");
+      dds::CopyBoundedString(dds::kBackgroundStill, command.parameter.value, "parameter value");
+    }
     Send(command, t.result.camera_id);
     ++t.result.requests;
     t.last_ask = t.asked_at = Clock::now();

@@ -32,6 +32,9 @@ struct StillCollectorOptions {
   dds::QosSettings qos;
   std::vector<StillTarget> targets;
   uint64_t still_id = 0;  // 0: derived from the clock (unique per request)
+  // Stills of the empty scene: each node keeps its own as the background of its later
+  // full-resolution stills (their silhouettes are empty).
+  bool background = false;
   // Before asking, wait up to this long for the targets' nodes to appear (CameraInfo).
   std::chrono::milliseconds discovery{5000};
   // Give up on cameras whose stills are not complete by then (from the first request).

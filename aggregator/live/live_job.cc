@@ -390,11 +390,13 @@ class LiveJob {
 
   // The stills stage with the calibration in use; `instant_s` >= 0 names the reference
   // instant of the stills (else each node's next frame).
-  StillsStageConfig StillsConfig(double instant_s, bool stereo = true) const {
+  StillsStageConfig StillsConfig(double instant_s, bool stereo = true,
+                                 bool background = false) const {
     StillsStageConfig config;
     config.stereo = stereo;
+    config.collect.background = background;
     config.cameras = hull_cameras_;
-    config.output = options_.output / "stills";
+    config.output = options_.output / (background ? "backgrounds" : "stills");
     config.truth = options_.stills_truth;
     config.collect.domain = options_.domain;
     config.collect.timeout =
@@ -460,14 +462,22 @@ class LiveJob {
       spdlog::info("live: stills asked for: asking the {} calibrated cameras{}",
                    hull_cameras_.size(),
                    request.at_s >= 0 ? fmt::format(" for stills of {:.2f} s", request.at_s) : "");
+      const StillsStageConfig config =
+          StillsConfig(request.at_s, request.stereo, request.background);
       std::error_code ignored;
-      std::filesystem::remove_all(options_.output / "stills", ignored);
-      StartStills(StillsConfig(request.at_s, request.stereo), request.id);
+      std::filesystem::remove_all(config.output, ignored);
+      StartStills(config, request.id);
+      stills_background_ = request.background;
       Answer(request.id, "running",
-             "collecting the stills into " + (options_.output / "stills").string() + "\n");
+             fmt::format("collecting the stills{} into {}\n",
+                         request.background ? " of the empty scene" : "", config.output.string()));
     }
     if (!Ready(stills_future_)) return;
     const std::string request = std::exchange(stills_request_, std::string());
+    if (std::exchange(stills_background_, false)) {
+      AnswerBackgrounds(request);
+      return;
+    }
     try {
       KeepStills(stills_future_.get(), !request.empty());
     } catch (const std::exception& e) {
@@ -486,6 +496,22 @@ class LiveJob {
     if (!request.empty()) {
       const bool failed = !result_.stills->failure.empty();
       Answer(request, failed ? "failed" : "done", StillsSummary(*result_.stills));
+    }
+  }
+
+  // Answers a finished request for stills of the empty scene (they stay out of the report).
+  void AnswerBackgrounds(const std::string& request) {
+    try {
+      const StillsStageResult backgrounds = stills_future_.get();
+      for (const std::string& warning : backgrounds.warnings)
+        spdlog::warn("live: {}", warning);
+      Answer(request, backgrounds.failure.empty() ? "done" : "failed",
+             fmt::format("  empty scene  {} of {} cameras, in {}\n{}", backgrounds.views,
+                         backgrounds.collection.cameras.size(),
+                         (options_.output / "backgrounds").string(),
+                         backgrounds.failure.empty() ? "" : backgrounds.failure + "\n"));
+    } catch (const std::exception& e) {
+      Answer(request, "failed", fmt::format("stills of the empty scene failed: {}\n", e.what()));
     }
   }
 
@@ -704,7 +730,8 @@ class LiveJob {
   std::future<HullSequenceResult> hulls_future_;
   bool stills_started_ = false;
   std::optional<StillsRequest> pending_stills_;  // asked for by the service command
-  std::string stills_request_;  // the request the running stage answers ("" for --stills-at)
+  std::string stills_request_;      // the request the running stage answers ("" for --stills-at)
+  bool stills_background_ = false;  // the running stage takes stills of the empty scene
   std::unique_ptr<Progress> stills_progress_;
   std::future<StillsStageResult> stills_future_;
   LiveJobResult result_;

@@ -158,7 +158,7 @@ int RequestStills(const std::filesystem::path& output, const StillsRequest& requ
   }
   ReplaceYaml(StillsRequestPath(output), [&](cv::FileStorage& fs) {
     fs << "id" << request.id << "at_s" << request.at_s << "stereo"
-       << static_cast<int>(request.stereo);
+       << static_cast<int>(request.stereo) << "background" << static_cast<int>(request.background);
   });
   if (kill(*pid, SIGUSR1) != 0)
     throw InputError(
@@ -176,6 +176,7 @@ std::optional<StillsRequest> TakeStillsRequest(const std::filesystem::path& outp
   request.id = static_cast<std::string>(fs["id"]);
   request.at_s = fs["at_s"].empty() ? -1.0 : static_cast<double>(fs["at_s"]);
   request.stereo = fs["stereo"].empty() || static_cast<int>(fs["stereo"]) != 0;
+  request.background = !fs["background"].empty() && static_cast<int>(fs["background"]) != 0;
   if (request.id.empty() || !std::isfinite(request.at_s)) {
     spdlog::warn("live: ignoring an unreadable stills request in {}", path.string());
     return std::nullopt;

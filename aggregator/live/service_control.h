@@ -41,6 +41,9 @@ struct StillsRequest {
   std::string id;      // unique per request (the asking process's id and clock)
   double at_s = -1.0;  // reference instant in seconds; negative: each node's next frame
   bool stereo = true;  // build the stereo model
+  // Of the empty scene instead: every node keeps its own to segment its later stills; they
+  // are written into OUT/backgrounds.
+  bool background = false;
 };
 
 // Where the live job is with a stills request.

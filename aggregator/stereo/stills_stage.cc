@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "aggregator/ingest/still_views.h"
 #include "aggregator/stereo/stereo_truth.h"
 #include "aggregator/stereo/stills_folder.h"
@@ -31,6 +33,20 @@ CalibrationErrors AlignToTruth(const std::filesystem::path& truth, const std::fi
   return errors;
 }
 
+// Writes every complete still as <output>/<camera>/background.png; returns how many.
+size_t WriteBackgrounds(const std::filesystem::path& output, const StillCollection& collection) {
+  size_t written = 0;
+  for (const CollectedStill& still : collection.cameras) {
+    if (!still.complete) continue;
+    const std::filesystem::path dir = output / still.camera_id;
+    std::filesystem::create_directories(dir);
+    if (!cv::imwrite((dir / "background.png").string(), still.photo))
+      throw InputError("cannot write " + (dir / "background.png").string());
+    ++written;
+  }
+  return written;
+}
+
 }  // namespace
 
 StillsStageResult RunStillsStage(const StillsStageConfig& config, Progress* progress) {
@@ -45,6 +61,11 @@ StillsStageResult RunStillsStage(const StillsStageConfig& config, Progress* prog
   result.collection = CollectStills(collect, progress);
   std::filesystem::create_directories(config.output);
   WriteStillSummary(config.output / "stills.yaml", result.collection);
+  if (collect.background) {
+    result.views = WriteBackgrounds(config.output, result.collection);
+    if (result.views == 0) result.failure = "no camera sent its still of the empty scene";
+    return result;
+  }
   StereoViews views = StillViews(result.collection, config.cameras);
   result.views = views.views.size();
   result.warnings = views.warnings;

@@ -4,7 +4,9 @@
 // write what arrived as a stills folder with that calibration carried over to the stills'
 // resolution (still_views.h), and build the stereo model from it (stereo_job.h). With a
 // simulation's true stills folder, the calibration is first aligned to its cameras and the
-// model scored against its surface.
+// model scored against its surface. With `collect.background` the stills are of the empty
+// scene instead: each node keeps its own (to segment its later full-resolution stills), and
+// the stage writes them as <output>/<camera>/background.png (the stills folder's layout).
 
 #include <filesystem>
 #include <optional>
@@ -35,7 +37,7 @@ struct StillsStageConfig {
 // none was asked for).
 struct StillsStageResult {
   StillCollection collection;
-  size_t views = 0;                   // stills usable for stereo
+  size_t views = 0;                   // stills usable for stereo (backgrounds written)
   std::vector<std::string> warnings;  // stills left out and why
   std::optional<CalibrationErrors> calibration_vs_truth;
   std::optional<StereoJobResult> stereo;

@@ -73,7 +73,7 @@ TEST(StillsOnCommand, EveryNodeSendsTheStillOfTheInstantWholeAndAMissingNodeIsRe
     // frame.
     std::vector<std::string> args{
         "--camera-id", CameraName(i), "--source", "sim:" + (data / CameraName(i)).string(),
-        "--lossless",  "--linger",    "5",        "--still-chunk-kb",
+        "--lossless",  "--linger",    "120",      "--still-chunk-kb",
         "32"};
     if (faults.count(i)) args.insert(args.end(), faults.at(i).begin(), faults.at(i).end());
     nodes.push_back(
@@ -141,8 +141,33 @@ TEST(StillsOnCommand, EveryNodeSendsTheStillOfTheInstantWholeAndAMissingNodeIsRe
   const aggregator::StereoViews views = aggregator::LoadStillsFolder(out, out / "calibration.yaml");
   EXPECT_EQ(views.views.size(), static_cast<size_t>(kCameras));
   EXPECT_TRUE(views.warnings.empty());
-  for (auto& node : nodes)
-    EXPECT_TRUE(node->Wait(seconds(60)).has_value());
+
+  // Stills of the empty scene: every node keeps its own (for the stills of a still stream of
+  // its own, which these replayed feeds do not have) and sends it; it is written as the
+  // stills folder's background.
+  const std::filesystem::path empty = work / "empty";
+  testing::ChildProcess backgrounds(
+      kBin / "aggregator/silnet-aggregator",
+      {"stills", empty.string(), "--calib", (work / "calibration.yaml").string(), "--background",
+       "--timeout", "60", "--discovery", "12"},
+      work.path());
+  ASSERT_EQ(backgrounds.Wait(seconds(120)), std::optional<int>(0))
+      << backgrounds.Stdout() << backgrounds.Stderr();
+  EXPECT_NE(backgrounds.Stdout().find("8 of 9 cameras sent the empty scene"), std::string::npos)
+      << backgrounds.Stdout();
+  for (int i = 0; i < kCameras; ++i) {
+    const cv::Mat background =
+        cv::imread((empty / CameraName(i) / "background.png").string(), cv::IMREAD_COLOR);
+    const cv::Mat frame =
+        cv::imread((data / CameraName(i) / "frames" / FrameFile(0)).string(), cv::IMREAD_COLOR);
+    ASSERT_FALSE(background.empty()) << CameraName(i);
+    EXPECT_EQ(background.size(), frame.size()) << CameraName(i);
+  }
+  for (auto& node : nodes) {
+    EXPECT_NE(node->Stderr().find("kept as the empty scene"), std::string::npos);
+    node->Signal(SIGTERM);
+    EXPECT_EQ(node->Wait(seconds(60)), std::optional<int>(0)) << node->Stderr();
+  }
 }
 
 // The user's story on the simulator: the nodes' still streams show a statue at 1.5 times the

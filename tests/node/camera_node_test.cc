@@ -53,12 +53,41 @@ class CameraNodeTest : public ::testing::Test {
     options.status_period = milliseconds(200);
     options.linger = milliseconds(500);
     options.domain = dds::DomainConfig::FromEnvironment();
-    node_ = std::make_unique<CameraNode>(options, std::make_unique<ImageFolderSource>(source));
+    node_ = std::make_unique<CameraNode>(options, MakeSource(source));
     runner_ = std::thread([this] { node_->Run(stop_); });
   }
   void TearDown() override {
     stop_ = true;
     runner_.join();
+  }
+  virtual std::unique_ptr<CaptureSource> MakeSource(const ImageFolderSourceOptions& options) {
+    return std::make_unique<ImageFolderSource>(options);
+  }
+
+  // Takes still `id` (of the empty scene when `background`) and returns its two parts.
+  std::map<silnet_wire_StillPart, cv::Mat> TakeStill(uint64_t id, bool background) {
+    silnet_wire_Command capture{};
+    capture.still_id = id;
+    Send(silnet_wire_COMMAND_CAPTURE_STILL, background ? "still" : "",
+         background ? "background" : "", &capture);
+    std::map<silnet_wire_StillPart, std::vector<uint8_t>> bytes;
+    std::map<silnet_wire_StillPart, uint32_t> chunks, expected_chunks;
+    const bool arrived = Eventually([&] {
+      stills_.Take([&](const silnet_wire_Still& s, const dds_sample_info_t&) {
+        if (s.still_id != id) return;
+        bytes[s.part].insert(bytes[s.part].end(), s.data._buffer, s.data._buffer + s.data._length);
+        expected_chunks[s.part] = s.chunk_count;
+        ++chunks[s.part];
+      });
+      return chunks.size() == 2 && chunks == expected_chunks;
+    });
+    std::map<silnet_wire_StillPart, cv::Mat> parts;
+    if (!arrived) return parts;
+    parts[silnet_wire_STILL_PHOTO] =
+        cv::imdecode(bytes[silnet_wire_STILL_PHOTO], cv::IMREAD_UNCHANGED);
+    parts[silnet_wire_STILL_SILHOUETTE] =
+        cv::imdecode(bytes[silnet_wire_STILL_SILHOUETTE], cv::IMREAD_GRAYSCALE);
+    return parts;
   }
 
   void Send(silnet_wire_CommandKind kind, const std::string& name = "",
@@ -180,6 +209,73 @@ TEST_F(CameraNodeTest, ObeysCommandsAndReportsItsState) {
   EXPECT_EQ(status.session, 9u);
   EXPECT_NE(dds::ReadBoundedString(status.state).find("running"), std::string::npos);
   EXPECT_GE(node_->Counters().commands, 6u);
+}
+
+// A source with a still stream of its own at twice the frames' size and no background for it
+// (as a V4L2 or libcamera camera): the still it takes is whatever the test put in `scene`.
+class StillStreamSource : public CaptureSource {
+ public:
+  StillStreamSource(const ImageFolderSourceOptions& options, std::shared_ptr<cv::Mat> scene)
+      : frames_(options), scene_(std::move(scene)) {}
+  void Open() override { frames_.Open(); }
+  CaptureStatus Read(CapturedFrame* frame, std::chrono::milliseconds timeout) override {
+    return frames_.Read(frame, timeout);
+  }
+  void Close() override { frames_.Close(); }
+  CaptureFormat Format() const override { return frames_.Format(); }
+  std::string Kind() const override { return "test"; }
+  std::string Describe() const override { return "still stream test source"; }
+  std::string LastError() const override { return frames_.LastError(); }
+  CaptureCounters Counters() const override { return frames_.Counters(); }
+  std::optional<StillPhoto> TakeStill(const CapturedFrame&) override {
+    StillPhoto still;
+    still.photo = scene_->clone();
+    return still;
+  }
+
+ private:
+  ImageFolderSource frames_;
+  std::shared_ptr<cv::Mat> scene_;
+};
+
+class CameraNodeStillStreamTest : public CameraNodeTest {
+ protected:
+  std::unique_ptr<CaptureSource> MakeSource(const ImageFolderSourceOptions& options) override {
+    return std::make_unique<StillStreamSource>(options, scene_);
+  }
+  std::shared_ptr<cv::Mat> scene_ = std::make_shared<cv::Mat>();
+};
+
+// Without a background of its own, a full-resolution still's silhouette is the frame's brought
+// to its size; once the node has a still of the empty scene, it is the still's own, against it.
+TEST_F(CameraNodeStillStreamTest, SegmentsStillsAgainstItsStillOfTheEmptyScene) {
+  cv::Mat empty(192, 256, CV_8UC3);
+  cv::RNG rng(3);
+  rng.fill(empty, cv::RNG::UNIFORM, cv::Scalar::all(60), cv::Scalar::all(190));
+  const cv::Rect subject(150, 40, 60, 110);  // where the frames' circle never is
+  cv::Mat with_subject = empty.clone();
+  with_subject(subject).setTo(cv::Scalar(30, 40, 220));
+  ASSERT_TRUE(command_writer_.WaitForReaders(1, seconds(10)));
+
+  *scene_ = with_subject.clone();
+  auto before = TakeStill(11, false);
+  ASSERT_EQ(before.size(), 2u);
+  ASSERT_EQ(before[silnet_wire_STILL_SILHOUETTE].size(), cv::Size(256, 192));
+  EXPECT_LT(cv::countNonZero(before[silnet_wire_STILL_SILHOUETTE](subject)), subject.area() / 10)
+      << "the frame's circle, scaled, is elsewhere";
+
+  *scene_ = empty.clone();
+  auto background = TakeStill(12, true);
+  ASSERT_EQ(background.size(), 2u);
+  EXPECT_EQ(cv::norm(background[silnet_wire_STILL_PHOTO], empty, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::countNonZero(background[silnet_wire_STILL_SILHOUETTE]), 0);
+
+  *scene_ = with_subject.clone();
+  auto after = TakeStill(13, false);
+  ASSERT_EQ(after.size(), 2u);
+  cv::Mat expected = cv::Mat::zeros(192, 256, CV_8UC1);
+  expected(subject).setTo(255);
+  EXPECT_LE(cv::norm(after[silnet_wire_STILL_SILHOUETTE], expected, cv::NORM_L1) / 255, 10);
 }
 
 }  // namespace
