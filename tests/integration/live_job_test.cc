@@ -303,6 +303,14 @@ TEST(LiveJob, AsAServiceItReestimatesAMovedCameraRecalibratesAndTakesStillsWhenA
   EXPECT_NE(live.Stderr().find("recalibrating on frames 600..999"), std::string::npos);
   // `stills` asks the running job for stills with the calibration in use and follows its
   // answer; the job rewrites its report with them while it goes on.
+  testing::ChildProcess empty(kBin / "aggregator/silnet-aggregator",
+                              {"stills", out.string(), "--background"}, work.path());
+  ASSERT_EQ(empty.Wait(seconds(180)), std::optional<int>(0)) << empty.Stdout() << live.Stderr();
+  EXPECT_NE(empty.Stdout().find("empty scene  8 of 8 cameras"), std::string::npos)
+      << empty.Stdout();
+  for (int c = 0; c < 8; ++c)
+    EXPECT_TRUE(
+        std::filesystem::exists(out / fmt::format("backgrounds/cam{:02d}/background.png", c)));
   std::filesystem::remove(out / "report.html");
   testing::ChildProcess stills(kBin / "aggregator/silnet-aggregator",
                                {"stills", out.string(), "--no-stereo"}, work.path());
