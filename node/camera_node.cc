@@ -540,8 +540,11 @@ StillPicture CameraNode::State::PictureOf(const StillJob& job) {
     cv::resize(job.silhouette, resized, photo.size(), 0, 0, cv::INTER_LINEAR);
     return {photo, resized >= 128, job.frame_flags};
   }
-  cv::Mat mask = SegmentAgainstBackground(photo, background).mask;
-  const uint32_t flags = cv::countNonZero(mask) == 0 ? silnet_wire_FRAME_EMPTY : 0u;
+  // Weak evidence beside the silhouette is marked for the aggregator's multi-view check.
+  BackgroundDifferenceOptions segmentation;
+  segmentation.mark_weak_silhouette = true;
+  cv::Mat mask = SegmentAgainstBackground(photo, background, segmentation).mask;
+  const uint32_t flags = cv::countNonZero(mask == 255) == 0 ? silnet_wire_FRAME_EMPTY : 0u;
   return {photo, std::move(mask), flags};
 }
 

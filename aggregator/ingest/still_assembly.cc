@@ -5,6 +5,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "node/segmentation/weak_silhouette.h"
 #include "shared/dds/topics.h"
 #include "shared/util/crc32.h"
 
@@ -137,6 +138,8 @@ std::string StillAssembly::Decode(cv::Mat* photo, cv::Mat* silhouette) {
                         : "the silhouette's size differs from the photo's";
   }
   cv::compare(grey, 0, *silhouette, cv::CMP_NE);
+  // Weak evidence beside the silhouette keeps its mark for the multi-view check.
+  silhouette->setTo(node::kWeakSilhouette, grey == node::kWeakSilhouette);
   return "";
 }
 

@@ -72,7 +72,8 @@ class StillAssembly {
     return p == silnet_wire_STILL_PHOTO ? photo_ : silhouette_;
   }
   bool Complete() const { return photo_.Complete() && silhouette_.Complete(); }
-  // Decodes a complete still into `photo` (BGR) and `silhouette` (0/255, one channel).
+  // Decodes a complete still into `photo` (BGR) and `silhouette` (0/255, one channel, and
+  // node::kWeakSilhouette where the node marked weak evidence).
   // Returns an empty string, or why it is unusable (undecodable, sizes not as announced,
   // photo and silhouette of different frames); the part at fault is reset so that its
   // chunks are asked for again.

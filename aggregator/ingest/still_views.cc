@@ -1,11 +1,14 @@
 #include "aggregator/ingest/still_views.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
 
+#include "aggregator/stereo/silhouette_consensus.h"
+#include "node/segmentation/weak_silhouette.h"
 #include "shared/util/check.h"
 #include "silnet.h"
 
@@ -44,7 +47,7 @@ StereoViews StillViews(const StillCollection& collection, const std::vector<Came
           fmt::format("{}: its node flagged the silhouette unusable, left out", still.camera_id));
       continue;
     }
-    if (cv::countNonZero(still.silhouette) == 0) {
+    if (cv::countNonZero(still.silhouette == 255) == 0) {
       views.warnings.push_back(fmt::format("{}: empty silhouette, left out", still.camera_id));
       continue;
     }
@@ -60,6 +63,12 @@ StereoViews StillViews(const StillCollection& collection, const std::vector<Came
     view.mask = still.silhouette;
     view.silhouette_source = MaskOrigin::kMaskFile;
     views.views.push_back(std::move(view));
+  }
+  // Weak evidence beside the silhouettes, kept where the other views confirm it.
+  const SilhouetteConsensus consensus = ResolveWeakSilhouettes(&views.views, node::kWeakSilhouette);
+  if (consensus.candidates > 0) {
+    spdlog::info("stills: {} of {} weak silhouette pixels confirmed by the other views",
+                 consensus.kept, consensus.candidates);
   }
   return views;
 }

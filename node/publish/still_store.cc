@@ -4,6 +4,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "node/segmentation/weak_silhouette.h"
 #include "shared/util/check.h"
 
 namespace silnet::node {
@@ -29,9 +30,10 @@ EncodedStill EncodeStill(uint64_t still_id, uint64_t frame_index, uint32_t frame
                     jpeg ? jpeg_params : std::vector<int>{})) {
     throw InputError("the still's photo could not be encoded");
   }
+  if (silhouette.channels() != 1) throw InputError("the still's silhouette must have one channel");
   cv::Mat binary;
   cv::compare(silhouette, 0, binary, cv::CMP_NE);
-  if (binary.channels() != 1) throw InputError("the still's silhouette must have one channel");
+  binary.setTo(kWeakSilhouette, silhouette == kWeakSilhouette);
   if (!cv::imencode(".png", binary, still.silhouette)) {
     throw InputError("the still's silhouette could not be encoded");
   }

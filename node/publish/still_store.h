@@ -22,11 +22,12 @@ struct EncodedStill {
   int width = 0, height = 0;
   std::string photo_encoding;  // "png" or "jpeg"
   std::vector<uint8_t> photo;
-  std::vector<uint8_t> silhouette;  // always PNG, 0/255
+  std::vector<uint8_t> silhouette;  // always PNG, 0/255 (and kWeakSilhouette)
 };
 
 // Encodes a photograph (PNG, or JPEG at quality 95 when it has more than
-// `jpeg_above_pixels` pixels) and its silhouette (PNG, any non-zero pixel becomes 255).
+// `jpeg_above_pixels` pixels) and its silhouette (PNG: weak evidence, kWeakSilhouette, stays;
+// any other non-zero pixel becomes 255).
 // Throws InputError when the two differ in size or either is empty.
 EncodedStill EncodeStill(uint64_t still_id, uint64_t frame_index, uint32_t frame_flags,
                          int64_t capture_time_ns, const cv::Mat& photo, const cv::Mat& silhouette,

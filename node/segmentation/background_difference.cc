@@ -51,6 +51,8 @@ BackgroundDifference SegmentAgainstBackground(const cv::Mat& still, const cv::Ma
     result.camouflaged_holes_filled =
         FillCamouflagedHoles(&result.mask, still, background, camouflage);
   }
+  if (options.mark_weak_silhouette)
+    result.weak_pixels = MarkWeakSilhouette(&result.mask, still, background, options.weak);
   return result;
 }
 

@@ -15,6 +15,7 @@
 #include "node/segmentation/camouflaged_holes.h"
 #include "node/segmentation/mask_cleanup.h"
 #include "node/segmentation/segmentation_options.h"
+#include "node/segmentation/weak_silhouette.h"
 
 namespace silnet::node {
 
@@ -27,6 +28,10 @@ struct BackgroundDifferenceOptions {
   SegmentationOptions node;
   bool fill_camouflaged_holes = true;
   CamouflageOptions camouflage;
+  // Mark weak evidence beside the silhouette with kWeakSilhouette (weak_silhouette.h) for a
+  // multi-view check downstream; off: the mask is 0/255.
+  bool mark_weak_silhouette = false;
+  WeakSilhouetteOptions weak;
 };
 
 // The silhouette (CV_8UC1, 0/255) of `still` against `background` (both CV_8UC3, one
@@ -35,6 +40,7 @@ struct BackgroundDifference {
   cv::Mat mask;
   CleanupStats cleanup;
   int camouflaged_holes_filled = 0;
+  int weak_pixels = 0;  // marked kWeakSilhouette
 };
 BackgroundDifference SegmentAgainstBackground(const cv::Mat& still, const cv::Mat& background,
                                               const BackgroundDifferenceOptions& options = {});

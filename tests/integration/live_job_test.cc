@@ -214,11 +214,12 @@ TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsStillsModelAndReport) {
       "statue from the live calibration: accuracy %.2f fp (hull %.2f), %.1f %% within 2 fp\n",
       accuracy, hull_accuracy, 100 * within_2fp);
   EXPECT_LT(accuracy, hull_accuracy);
-  // Measured 1.66 fp and 94.8 % (registered at the statue; the stereo issue's targets are 1.5 fp
-  // and 97 %, which the exact silhouettes reach with 1.34 fp and 98.8 %: the nodes' single-still
-  // segmentation is what is left, docs/PERFORMANCE.md).
-  EXPECT_LE(accuracy, 2.5);
-  EXPECT_GE(within_2fp, 0.88);
+  // The stereo issue's targets: accuracy <= 1.5 fp, >= 97 % within 2 fp. Measured 1.42 fp and
+  // 96.7 % (registered at the statue; the nodes' weak silhouette evidence confirmed by the other
+  // views, docs/PERFORMANCE.md): the completeness target is not met yet, the bound leaves room
+  // for the live calibration's run-to-run variation.
+  EXPECT_LE(accuracy, 1.5);
+  EXPECT_GE(within_2fp, 0.96);
   EXPECT_NE(live.Stdout().find("stills       8 of 8 cameras"), std::string::npos) << live.Stdout();
 }
 

@@ -236,7 +236,8 @@ TEST(StillsOnCommand, TheModelFromTheNodesStillsIsScoredAgainstTheStatuesTrueSur
       "statue from the nodes' stills: accuracy %.2f fp (hull %.2f), %.1f %% within 2 fp "
       "(hull %.1f %%)\n",
       accuracy, hull_accuracy, 100.0 * within2, 100.0 * hull_within2);
-  // Measured 5.99 fp and 83.2 % (hull 9.49 fp, 76.9 %). With the exact silhouettes the same
+  // Measured 5.99 fp and 83.2 % (hull 9.49 fp, 76.9 %); 5.28 fp and 87.6 % with the camouflage
+  // test, the weak evidence and the registration at the statue. With the exact silhouettes the same
   // cameras give 1.44 fp and 98.0 %: the gap is the single-image segmentation of a grey statue
   // in front of a grey wall (IoU 0.93-0.99), not the transport or the calibration's alignment.
   EXPECT_LT(accuracy, 8.0);

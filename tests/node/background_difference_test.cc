@@ -130,6 +130,34 @@ TEST(BackgroundDifferenceTest, FillsCamouflagedPatchesButNotTrueHoles) {
   }
 }
 
+// Asked to, it marks weak evidence beside the silhouette: a thin dark pole 8 DN off the wall
+// (under the 12 DN threshold) that continues the subject is marked, a shadow near it (the wall
+// darkened to 80 %) and an isolated faint patch are not.
+TEST(BackgroundDifferenceTest, MarksWeakEvidenceBesideTheSilhouette) {
+  cv::Mat grey(120, 160, CV_8UC1), background;
+  cv::RNG rng(5);
+  rng.fill(grey, cv::RNG::UNIFORM, 150, 153);
+  cv::cvtColor(grey, background, cv::COLOR_GRAY2BGR);
+  cv::Mat still = background.clone();
+  const cv::Rect subject(40, 50, 40, 60), pole(58, 10, 3, 40), shadow(86, 80, 30, 30),
+      patch(130, 10, 10, 10);
+  still(subject).setTo(cv::Scalar(40, 60, 200));
+  still(pole) -= cv::Scalar(8, 0, 3);
+  still(shadow).convertTo(still(shadow), CV_8UC3, 0.8);
+  still(patch) -= cv::Scalar(8, 0, 3);
+  BackgroundDifferenceOptions options;
+  options.mark_weak_silhouette = true;
+  const BackgroundDifference marked =
+      SegmentAgainstBackground(WithNoise(still, 7, 1.0), background, options);
+  EXPECT_GE(cv::countNonZero(marked.mask(pole) == kWeakSilhouette), 0.8 * pole.area());
+  EXPECT_EQ(cv::countNonZero(marked.mask(shadow) == kWeakSilhouette), 0);
+  EXPECT_EQ(cv::countNonZero(marked.mask(patch)), 0);
+  EXPECT_GE(cv::countNonZero(marked.mask(subject) == 255), 0.97 * subject.area());
+  EXPECT_EQ(marked.weak_pixels, cv::countNonZero(marked.mask == kWeakSilhouette));
+  const BackgroundDifference plain = SegmentAgainstBackground(WithNoise(still, 7, 1.0), background);
+  EXPECT_EQ(cv::countNonZero((plain.mask != 0) & (plain.mask != 255)), 0);
+}
+
 TEST(BackgroundDifferenceTest, RejectsImagesOfDifferentSizes) {
   EXPECT_THROW(SegmentAgainstBackground(Background(1), Background(1)(cv::Rect(0, 0, 20, 20))),
                InputError);

@@ -275,7 +275,10 @@ TEST_F(CameraNodeStillStreamTest, SegmentsStillsAgainstItsStillOfTheEmptyScene) 
   ASSERT_EQ(after.size(), 2u);
   cv::Mat expected = cv::Mat::zeros(192, 256, CV_8UC1);
   expected(subject).setTo(255);
-  EXPECT_LE(cv::norm(after[silnet_wire_STILL_SILHOUETTE], expected, cv::NORM_L1) / 255, 10);
+  // Read as readers read masks (>= 128): the node also marks weak evidence beside the outline
+  // (node/segmentation/weak_silhouette.h) for the aggregator to confirm.
+  const cv::Mat silhouette = after[silnet_wire_STILL_SILHOUETTE] >= 128;
+  EXPECT_LE(cv::norm(silhouette, expected, cv::NORM_L1) / 255, 10);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "node/segmentation/weak_silhouette.h"
 #include "shared/util/check.h"
 
 namespace silnet::node {
@@ -58,6 +59,13 @@ TEST(EncodeStill, PhotosArePngOrAboveTheLimitJpegAndSilhouettesZeroOr255) {
   cv::compare(mask, 0, expected, cv::CMP_NE);
   EXPECT_EQ(cv::norm(decoded_mask, expected, cv::NORM_INF), 0.0);
   EXPECT_EQ(cv::countNonZero(decoded_mask == 255), cv::countNonZero(mask));
+  // Weak evidence (weak_silhouette.h) keeps its value.
+  cv::Mat with_weak = mask.clone();
+  with_weak(cv::Rect(0, 0, 5, 5)).setTo(kWeakSilhouette);
+  const cv::Mat weak_decoded =
+      cv::imdecode(EncodeStill(7, 17, 0, 123, photo, with_weak).silhouette, cv::IMREAD_GRAYSCALE);
+  EXPECT_EQ(cv::countNonZero(weak_decoded == kWeakSilhouette), 25);
+  EXPECT_EQ(cv::countNonZero(weak_decoded == 255), cv::countNonZero(mask));
 
   const EncodedStill jpeg = EncodeStill(6, 18, 0, 124, photo, mask, 1000);
   EXPECT_EQ(jpeg.photo_encoding, "jpeg");

@@ -1,0 +1,35 @@
+#pragma once
+// Weak evidence beside a still's silhouette, for the aggregator to confirm with the other
+// views: pixels next to the silhouette that differ from the background by less than the
+// segmentation's threshold but clearly more than noise (a dark pole against a dark wall, the
+// rim of a camouflaged part). A single view cannot tell them from noise or a soft shadow; the
+// other views' silhouettes can (aggregator/stereo/silhouette_consensus.h). They are marked
+// with kWeakSilhouette, below the 128 that readers threshold masks at, so a reader that does
+// not know them sees plain background.
+
+#include <cstdint>
+#include <opencv2/core/mat.hpp>
+
+namespace silnet::node {
+
+// The mask value of a weak candidate.
+inline constexpr uint8_t kWeakSilhouette = 64;
+
+// What counts as weak evidence.
+struct WeakSilhouetteOptions {
+  double min_difference = 6.0;  // colour distance after a 3x3 Gaussian blur, digital numbers
+  // Pixels darker than the background by a ratio in this range with its chromaticity (a
+  // soft shadow) are not evidence.
+  double shadow_min_ratio = 0.35;
+  double shadow_max_ratio = 0.92;
+  double shadow_chroma = 0.08;
+};
+
+// Marks the background pixels of `mask` (CV_8UC1, 255 silhouette, 0 background) that are
+// weak evidence of the subject against `background` in `still` (CV_8UC3, the mask's size) and
+// connected (8-neighbourhood) to the silhouette through such pixels, with kWeakSilhouette.
+// Returns how many.
+int MarkWeakSilhouette(cv::Mat* mask, const cv::Mat& still, const cv::Mat& background,
+                       const WeakSilhouetteOptions& options = {});
+
+}  // namespace silnet::node
