@@ -16,7 +16,6 @@ BackgroundDifference SegmentAgainstBackground(const cv::Mat& still, const cv::Ma
   }
   const node::SegmentationOptions& o = options.node;
   const float min2 = static_cast<float>(o.min_difference * o.min_difference);
-  const float chroma2 = static_cast<float>(o.shadow_chroma * o.shadow_chroma);
   BackgroundDifference result;
   result.mask = cv::Mat(still.size(), CV_8UC1, cv::Scalar(0));
   cv::Mat ratio(still.size(), CV_32F, cv::Scalar(0.0f));  // of the shadow candidates
@@ -26,20 +25,19 @@ BackgroundDifference SegmentAgainstBackground(const cv::Mat& still, const cv::Ma
     const uint8_t* bg = background.ptr<uint8_t>(y);
     uint8_t* out = result.mask.ptr<uint8_t>(y);
     for (int x = 0; x < still.cols; ++x) {
-      const float i0 = in[3 * x], i1 = in[3 * x + 1], i2 = in[3 * x + 2];
-      const float b0 = bg[3 * x], b1 = bg[3 * x + 1], b2 = bg[3 * x + 2];
-      const float d0 = i0 - b0, d1 = i1 - b1, d2 = i2 - b2;
+      float i[3], b[3];
+      for (int c = 0; c < 3; ++c) {
+        i[c] = static_cast<float>(in[3 * x + c]);
+        b[c] = static_cast<float>(bg[3 * x + c]);
+      }
+      const float d0 = i[0] - b[0], d1 = i[1] - b[1], d2 = i[2] - b[2];
       if (d0 * d0 + d1 * d1 + d2 * d2 <= min2) continue;
-      const float bb = b0 * b0 + b1 * b1 + b2 * b2;
-      const float alpha = bb > 1.0f ? (i0 * b0 + i1 * b1 + i2 * b2) / bb : 1.0f;
       out[x] = 255;
-      if (o.suppress_shadows && alpha >= o.shadow_min_ratio && alpha <= o.shadow_max_ratio) {
-        const float c0 = i0 - alpha * b0, c1 = i1 - alpha * b1, c2 = i2 - alpha * b2;
-        if (c0 * c0 + c1 * c1 + c2 * c2 < chroma2 * alpha * alpha * bb) {
-          out[x] = 128;
-          ratio.at<float>(y, x) = alpha;
-          candidates = true;
-        }
+      if (!o.suppress_shadows) continue;
+      if (const float alpha = ShadowRatio(i, b, o); alpha > 0.0f) {
+        out[x] = 128;
+        ratio.at<float>(y, x) = alpha;
+        candidates = true;
       }
     }
   }
@@ -52,7 +50,7 @@ BackgroundDifference SegmentAgainstBackground(const cv::Mat& still, const cv::Ma
         FillCamouflagedHoles(&result.mask, still, background, camouflage);
   }
   if (options.mark_weak_silhouette)
-    result.weak_pixels = MarkWeakSilhouette(&result.mask, still, background, options.weak);
+    result.weak_pixels = MarkWeakSilhouette(&result.mask, still, background, o, options.weak);
   return result;
 }
 

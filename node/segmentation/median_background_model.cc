@@ -184,9 +184,6 @@ cv::Mat MedianBackgroundModel::Classify(const cv::Mat& frame, bool* warming_up) 
   const float gain = static_cast<float>(gain_);
   const float k2 = static_cast<float>(options_.threshold_sigmas * options_.threshold_sigmas);
   const float min2 = static_cast<float>(options_.min_difference * options_.min_difference);
-  const float shadow_lo = static_cast<float>(options_.shadow_min_ratio);
-  const float shadow_hi = static_cast<float>(options_.shadow_max_ratio);
-  const float chroma2 = static_cast<float>(options_.shadow_chroma * options_.shadow_chroma);
   const bool shadows = options_.suppress_shadows;
   // The variance learns only from a trained model, and grows by at most 3x per observation.
   const float rate = *warming_up ? 0.0f : static_cast<float>(options_.learning_rate);
@@ -200,9 +197,12 @@ cv::Mat MedianBackgroundModel::Classify(const cv::Mat& frame, bool* warming_up) 
     uint8_t* out = mask.ptr<uint8_t>(y);
     int row_first = -1, row_last = -1;
     for (int x = 0; x < frame.cols; ++x) {
-      const float i0 = in[3 * x], i1 = in[3 * x + 1], i2 = in[3 * x + 2];
-      const float b0 = gain * bg[3 * x], b1 = gain * bg[3 * x + 1], b2 = gain * bg[3 * x + 2];
-      const float d0 = i0 - b0, d1 = i1 - b1, d2 = i2 - b2;
+      float i[3], b[3];
+      for (int c = 0; c < 3; ++c) {
+        i[c] = static_cast<float>(in[3 * x + c]);
+        b[c] = gain * bg[3 * x + c];
+      }
+      const float d0 = i[0] - b[0], d1 = i[1] - b[1], d2 = i[2] - b[2];
       const float distance2 = d0 * d0 + d1 * d1 + d2 * d2;
       if (distance2 <= std::max(k2 * var[x], min2)) {
         var[x] = std::max(kMinimumVariance,
@@ -210,15 +210,10 @@ cv::Mat MedianBackgroundModel::Classify(const cv::Mat& frame, bool* warming_up) 
         continue;
       }
       out[x] = 255;
-      const float bb = b0 * b0 + b1 * b1 + b2 * b2;
-      const float alpha = bb > 1.0f ? (i0 * b0 + i1 * b1 + i2 * b2) / bb : 1.0f;
-      if (shadows && alpha >= shadow_lo && alpha <= shadow_hi) {
-        const float c0 = i0 - alpha * b0, c1 = i1 - alpha * b1, c2 = i2 - alpha * b2;
-        if (c0 * c0 + c1 * c1 + c2 * c2 < chroma2 * alpha * alpha * bb) {
-          out[x] = 128;
-          if (row_first < 0) row_first = x;
-          row_last = x;
-        }
+      if (shadows && ShadowRatio(i, b, options_) > 0.0f) {
+        out[x] = 128;
+        if (row_first < 0) row_first = x;
+        row_last = x;
       }
     }
     if (row_first >= 0) shadow_box |= cv::Rect(row_first, y, row_last - row_first + 1, 1);

@@ -3,15 +3,17 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "node/segmentation/shadow_texture.h"
+
 namespace silnet::node {
 
 int MarkWeakSilhouette(cv::Mat* mask, const cv::Mat& still, const cv::Mat& background,
+                       const SegmentationOptions& segmentation,
                        const WeakSilhouetteOptions& options) {
   cv::Mat photo, scene;
   cv::GaussianBlur(still, photo, cv::Size(3, 3), 0);
   cv::GaussianBlur(background, scene, cv::Size(3, 3), 0);
   const double min2 = options.min_difference * options.min_difference;
-  const double chroma2 = options.shadow_chroma * options.shadow_chroma;
   cv::Mat candidates(mask->size(), CV_8UC1, cv::Scalar(0));
   for (int y = 0; y < mask->rows; ++y) {
     const uint8_t* in = mask->ptr<uint8_t>(y);
@@ -20,15 +22,14 @@ int MarkWeakSilhouette(cv::Mat* mask, const cv::Mat& still, const cv::Mat& backg
     uint8_t* out = candidates.ptr<uint8_t>(y);
     for (int x = 0; x < mask->cols; ++x) {
       if (in[x] != 0) continue;
-      const cv::Vec3d i = p[x], g = b[x];
-      const cv::Vec3d d = i - g;
-      if (d.dot(d) <= min2) continue;
-      const double gg = g.dot(g);
-      const double alpha = gg > 1.0 ? i.dot(g) / gg : 1.0;
-      const cv::Vec3d c = i - alpha * g;
-      const bool shadow = alpha >= options.shadow_min_ratio && alpha <= options.shadow_max_ratio &&
-                          c.dot(c) < chroma2 * alpha * alpha * gg;
-      if (!shadow) out[x] = 255;
+      const double i[3] = {static_cast<double>(p[x][0]), static_cast<double>(p[x][1]),
+                           static_cast<double>(p[x][2])};
+      const double g[3] = {static_cast<double>(b[x][0]), static_cast<double>(b[x][1]),
+                           static_cast<double>(b[x][2])};
+      double d2 = 0;
+      for (int c = 0; c < 3; ++c)
+        d2 += (i[c] - g[c]) * (i[c] - g[c]);
+      if (d2 > min2 && ShadowRatio(i, g, segmentation) == 0.0) out[x] = 255;
     }
   }
   // Keep the candidates connected to the silhouette.

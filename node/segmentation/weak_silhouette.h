@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <opencv2/core/mat.hpp>
 
+#include "node/segmentation/segmentation_options.h"
+
 namespace silnet::node {
 
 // The mask value of a weak candidate.
@@ -18,18 +20,15 @@ inline constexpr uint8_t kWeakSilhouette = 64;
 // What counts as weak evidence.
 struct WeakSilhouetteOptions {
   double min_difference = 6.0;  // colour distance after a 3x3 Gaussian blur, digital numbers
-  // Pixels darker than the background by a ratio in this range with its chromaticity (a
-  // soft shadow) are not evidence.
-  double shadow_min_ratio = 0.35;
-  double shadow_max_ratio = 0.92;
-  double shadow_chroma = 0.08;
 };
 
 // Marks the background pixels of `mask` (CV_8UC1, 255 silhouette, 0 background) that are
 // weak evidence of the subject against `background` in `still` (CV_8UC3, the mask's size) and
 // connected (8-neighbourhood) to the silhouette through such pixels, with kWeakSilhouette.
-// Returns how many.
+// Pixels that look like a shadow by the segmentation's colour test (shadow_texture.h) are not
+// evidence. Returns how many.
 int MarkWeakSilhouette(cv::Mat* mask, const cv::Mat& still, const cv::Mat& background,
+                       const SegmentationOptions& segmentation,
                        const WeakSilhouetteOptions& options = {});
 
 }  // namespace silnet::node
