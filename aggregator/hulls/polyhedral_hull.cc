@@ -6,7 +6,9 @@
 #include <unordered_map>
 
 #include "aggregator/hulls/cone_face_region.h"
+#include "aggregator/hulls/face_boundary_loops.h"
 #include "aggregator/hulls/in_plane_gap_filler.h"
+#include "aggregator/hulls/loop_triangulation.h"
 #include "aggregator/hulls/mesh_check.h"
 #include "aggregator/hulls/viewing_cone_bounds.h"
 #include "shared/util/parallel_for.h"
@@ -45,19 +47,6 @@ VertexKey Triple(int a, int b, int c) {
 uint64_t EdgeKey(int owner, int line) {
   return (static_cast<uint64_t>(static_cast<uint32_t>(owner)) << 32) | static_cast<uint32_t>(line);
 }
-
-// A corner of a face's trapezoid: chart w and the global vertex.
-struct Corner {
-  double w = 0;
-  int vertex = -1;
-};
-
-// One trapezoid of a face: between lines `lo` and `hi` over [a, b].
-struct Trapezoid {
-  int lo = -1, hi = -1;  // indices into the face's lines
-  double a = 0, b = 0;
-  Corner bottom_a, bottom_b, top_a, top_b;
-};
 
 // A corner on one of a face's slab boundaries.
 struct BoundaryCorner {
@@ -178,8 +167,10 @@ class HullAssembler {
     ids_.reserve(8 * set.Planes().size());
   }
 
-  // Pass one: names the corners of every trapezoid of `region`.
-  void AddCorners(const FaceRegion& region) {
+  // Pass one: names the corners of every trapezoid of `region`. The sweep's cuts (corners
+  // where no planes meet) get hull vertices only if `name_cuts`, which the assembly with cuts
+  // needs; otherwise a negative number unique to them.
+  void AddCorners(const FaceRegion& region, bool name_cuts) {
     FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
     const ConePlane& plane = set_.Plane(region.plane);
     // Corners on the boundary between two slabs are named once: the next slab's a-side
@@ -192,8 +183,8 @@ class HullAssembler {
         const ChartLine& chart_line = region.lines[static_cast<size_t>(line)];
         Corner c;
         c.w = chart_line.WAt(lambda);
-        c.vertex = VertexFor(region, plane, chart_line.plane, lambda, c.w, boundary);
-        face.boundary.push_back({lambda, c});
+        c.vertex = VertexFor(region, plane, chart_line.plane, lambda, c.w, boundary, name_cuts);
+        if (name_cuts) face.boundary.push_back({lambda, c});
         return c;
       };
       const auto a_corner = [&](int line) {
@@ -227,8 +218,51 @@ class HullAssembler {
   // Ends pass one: indexes the cuts the faces made on their edges.
   void IndexCuts() { std::sort(cuts_.begin(), cuts_.end()); }
 
-  // Pass two: triangulates every trapezoid of `region`, its edges split wherever the
-  // neighbouring faces have corners on them.
+  // Pass two, the hull's own vertices only: triangulates the polygon `region` really is (its
+  // trapezoids' boundary without the sweep's cuts). False when that boundary is not closed
+  // loops of named vertices or does not triangulate (a near-degenerate face); the caller then
+  // assembles every face with the cuts instead (Clear, AddTriangles).
+  bool AddFacePolygon(const FaceRegion& region) {
+    const FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
+    if (face.trapezoids.empty()) return true;
+    if (!FaceBoundaryLoops(face.trapezoids, loops_)) return false;
+    const double w_scale = 1 / (region.w_max - region.w_min);
+    chart_loops_.resize(loops_.size());
+    loop_vertices_.clear();
+    for (size_t k = 0; k < loops_.size(); ++k) {
+      chart_loops_[k].clear();
+      for (const LoopPoint& point : loops_[k]) {
+        chart_loops_[k].emplace_back(point.lambda, (point.w - region.w_min) * w_scale);
+        loop_vertices_.push_back(point.vertex);
+      }
+    }
+    chart_loops_.resize(loops_.size());
+    const LoopTriangulation triangulation = TriangulateLoops(chart_loops_);
+    if (!triangulation.success) return false;
+    ++stats_.hull_faces;
+    const bool reverse = !ChartIsOutward(region, set_.Plane(region.plane));
+    for (const auto& t : triangulation.triangles) {
+      const auto vertex = [&](int k) {
+        return loop_vertices_[static_cast<size_t>(t[static_cast<size_t>(k)])];
+      };
+      triangles_.push_back(reverse ? std::array<int32_t, 3>{vertex(0), vertex(2), vertex(1)}
+                                   : std::array<int32_t, 3>{vertex(0), vertex(1), vertex(2)});
+    }
+    return true;
+  }
+
+  // Forgets the corners and triangles (to assemble the faces again with the cuts).
+  void StartOver() {
+    for (FaceCorners& face : faces_) {
+      face.trapezoids.clear();
+      face.boundary.clear();
+    }
+    triangles_.clear();
+    stats_.hull_faces = 0;
+  }
+
+  // Pass two with the cuts: triangulates every trapezoid of `region`, its edges split wherever
+  // the neighbouring faces have corners on them.
   void AddTriangles(const FaceRegion& region) {
     const FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
     if (face.trapezoids.empty()) return;
@@ -293,9 +327,10 @@ class HullAssembler {
   const PolyhedralHullStats& Stats() const { return stats_; }
 
  private:
-  // The vertex of a corner on line `line` at `lambda` (slab boundary `boundary`).
+  // The vertex of a corner on line `line` at `lambda` (slab boundary `boundary`); for a cut
+  // not to be named, the next unused negative number.
   int VertexFor(const FaceRegion& region, const ConePlane& plane, int line, double lambda, double w,
-                int boundary) {
+                int boundary, bool name_cuts) {
     std::optional<VertexKey> key;
     if (lambda == 0) key = Triple(region.plane, plane.prev, line);
     if (lambda == 1) key = Triple(region.plane, plane.next, line);
@@ -312,6 +347,7 @@ class HullAssembler {
       }
     }
     const bool cut = !key;
+    if (cut && !name_cuts) return --last_unnamed_cut_;
     if (cut) key = VertexKey{region.plane, line, -boundary - 1};
     const auto [it, inserted] = ids_.try_emplace(*key, static_cast<int>(positions_.size()));
     if (inserted) {
@@ -443,11 +479,15 @@ class HullAssembler {
   std::vector<std::pair<uint64_t, int>> cuts_;  // (EdgeKey(face, line), vertex), sorted
   std::vector<ChartVertex> polygon_, edge_;     // scratch of AddTriangles
   std::vector<Corner> side_;
-  std::vector<std::pair<int, Corner>> previous_, current_;            // scratch of AddCorners
+  std::vector<std::pair<int, Corner>> previous_, current_;  // scratch of AddCorners
+  int last_unnamed_cut_ = -1;
   mutable std::vector<std::pair<double, ChartVertex>> ordered_cuts_;  // scratch of EdgeCuts
   std::vector<Eigen::Vector3d> positions_;
-  std::vector<std::array<int, 3>> planes_;  // per position: the cone planes it lies on, or -1
-  std::vector<int> mesh_index_;             // per position: its vertex in the last Mesh()
+  std::vector<std::array<int, 3>> planes_;     // per position: the cone planes it lies on, or -1
+  std::vector<std::vector<LoopPoint>> loops_;  // scratch of AddFacePolygon
+  std::vector<std::vector<Eigen::Vector2d>> chart_loops_;
+  std::vector<int> loop_vertices_;
+  std::vector<int> mesh_index_;  // per position: its vertex in the last Mesh()
   std::vector<std::array<int32_t, 3>> triangles_;
   PolyhedralHullStats stats_;
 };
@@ -492,7 +532,8 @@ int TouchesBorder(const std::vector<CameraModel>& cameras,
 
 PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& cameras,
                                            const std::vector<SilhouetteContours>& contours,
-                                           const WorldBox& bounds, int threads) {
+                                           const WorldBox& bounds,
+                                           const PolyhedralHullOptions& options) {
   PolyhedralHullResult result;
   if (cameras.size() < 2 || contours.size() != cameras.size()) {
     result.reason = fmt::format(
@@ -515,7 +556,7 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
   const ConePlaneSet set(cameras, contours, bounds);
   // Every face on its own (in parallel), then assembled in plane order.
   std::vector<FaceRegion> regions(set.Planes().size());
-  ParallelFor(regions.size(), threads, [&](size_t p) {
+  ParallelFor(regions.size(), options.threads, [&](size_t p) {
     regions[p] = ComputeFaceRegion(cameras, set, static_cast<int>(p), bounds);
   });
   HullAssembler assembler(set);
@@ -524,26 +565,49 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
       result.reason = region.reason;
       return result;
     }
-    assembler.AddCorners(region);
+    assembler.AddCorners(region, false);
   }
-  assembler.IndexCuts();
-  for (const FaceRegion& region : regions)
-    assembler.AddTriangles(region);
-  result.mesh = assembler.Mesh(kWeldTolerance * bounds.diagonal().norm());
-  result.stats = assembler.Stats();
-  result.stats.cone_faces = set.Planes().size();
+  // Each face as the polygon it is; where that fails or the faces do not close, every face
+  // as its trapezoids with the cuts the neighbouring faces made on their common edges.
+  // Gaps that faces deciding a near-degenerate configuration differently leave are filled.
+  const double tolerance = kWeldTolerance * bounds.diagonal().norm();
+  const auto assemble = [&] {
+    result.mesh = assembler.Mesh(tolerance);
+    result.stats = assembler.Stats();
+    result.stats.cone_faces = set.Planes().size();
+    MeshCheck check = CheckClosedManifold(result.mesh);
+    if (check.open_edges > 0 && !result.mesh.triangles.empty()) {
+      const GapFilling filling =
+          FillInPlaneGaps(assembler.MeshVertexPlanes(result.mesh.vertices.size()), result.mesh);
+      result.stats.gaps_filled = filling.filled;
+      result.stats.gap_area = filling.area;
+      result.stats.widest_gap = filling.widest;
+      check = CheckClosedManifold(result.mesh);
+    }
+    return check;
+  };
+  bool own_vertices = options.faces_as_polygons;
+  for (const FaceRegion& region : regions) {
+    own_vertices = own_vertices && assembler.AddFacePolygon(region);
+  }
+  MeshCheck check;
+  if (own_vertices) {
+    check = assemble();
+    own_vertices = check.closed_manifold;
+  }
+  if (!own_vertices) {
+    assembler.StartOver();
+    for (const FaceRegion& region : regions)
+      assembler.AddCorners(region, true);
+    assembler.IndexCuts();
+    for (const FaceRegion& region : regions)
+      assembler.AddTriangles(region);
+    check = assemble();
+    result.stats.faces_with_cuts = true;
+  }
   if (result.mesh.triangles.empty()) {
     result.reason = "the viewing cones do not intersect: the hull is empty";
     return result;
-  }
-  MeshCheck check = CheckClosedManifold(result.mesh);
-  if (check.open_edges > 0) {
-    const GapFilling filling =
-        FillInPlaneGaps(assembler.MeshVertexPlanes(result.mesh.vertices.size()), result.mesh);
-    result.stats.gaps_filled = filling.filled;
-    result.stats.gap_area = filling.area;
-    result.stats.widest_gap = filling.widest;
-    check = CheckClosedManifold(result.mesh);
   }
   if (!check.closed_manifold) {
     result.reason = "the polyhedral mesh is not a closed manifold: " + check.reason;
@@ -589,7 +653,7 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
   const Eigen::Vector3d pad = options.bounds_padding * box.sizes();
   box.min() -= pad;
   box.max() += pad;
-  return ComputePolyhedralHull(cameras, contours, box, options.threads);
+  return ComputePolyhedralHull(cameras, contours, box, options);
 }
 
 }  // namespace silnet::aggregator

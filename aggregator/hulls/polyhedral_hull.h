@@ -2,12 +2,14 @@
 // The exact polyhedral visual hull (thesis 4.2, in the spirit of EPVH): the intersection of
 // the calibrated cameras' viewing cones over their silhouette contours (polygons with holes),
 // as a closed triangle mesh whose vertices are the hull's own: viewing-edge ends (a contour
-// vertex's ray meeting another cone), triple points (three cone faces meeting) and the points
-// where a face's sweep had to cut an edge, shared by both faces of that edge.
+// vertex's ray meeting another cone) and triple points (three cone faces meeting).
 //
 // Each cone face's region is computed on its own (cone_face_region.h); vertices are named by
-// the planes that meet there, so neighbouring faces agree on them without tolerances, and the
-// assembled mesh is checked to be closed and manifold. Where faces decide a near-degenerate
+// the planes that meet there, so neighbouring faces agree on them without tolerances. Each
+// face is triangulated as the polygon it is (face_boundary_loops.h, loop_triangulation.h),
+// without extra points, and the assembled mesh is checked to be closed and manifold. Where
+// that fails, the faces are assembled again from their sweeps' trapezoids, whose cuts on an
+// edge both faces of the edge share (4-5 times the triangles). Where faces decide a near-degenerate
 // configuration differently, the gap they leave is filled in the cone plane its outline lies
 // on (in_plane_gap_filler.h); a mesh that is still not closed is reported as a failure, and
 // callers fall back to the voxel hull.
@@ -33,6 +35,10 @@ struct PolyhedralHullStats {
   size_t viewing_edge_vertices = 0;  // a contour vertex's ray meeting another cone
   size_t triple_points = 0;          // three cone faces of three cameras meeting
   size_t edge_points = 0;            // cuts on cone-intersection edges from the sweeps
+  // The faces were triangulated with the sweeps' cuts on their edges (and `edge_points` are
+  // mesh vertices), not as polygons of the hull's own vertices: a near-degenerate face made
+  // the faster assembly fail.
+  bool faces_with_cuts = false;
   // Gaps between faces that decided a near-degenerate configuration differently, filled in
   // the cone plane their outline lies on (in_plane_gap_filler.h): how many, their area (square
   // metres) and the widest one's mean width (metres).
@@ -70,17 +76,20 @@ struct PolyhedralHullOptions {
   // Threads for the contours and the cone faces (0 = every core). The mesh is the same for
   // any count. Callers that build several hulls at once (a sequence of frames) keep 1.
   int threads = 1;
+  // Faces as polygons of the hull's own vertices; false: straight to the assembly with the
+  // sweeps' cuts that the hull otherwise falls back to (for tests and comparisons).
+  bool faces_as_polygons = true;
 };
 
 // Builds the hull from one silhouette outline per camera (pixels of the camera's image, as
 // ExtractContours gives them) inside `bounds`, which must contain the hull and lie in front
 // of every camera. Fails as data (never throws) on empty silhouettes, silhouettes touching
 // the image border (the subject may continue outside it), or a mesh that is not closed.
-// The cone faces are computed on `threads` threads (0 = every core); the mesh does not depend
-// on the count.
+// Of `options`, the threads (the mesh does not depend on them) and the assembly are used.
 PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& cameras,
                                            const std::vector<SilhouetteContours>& contours,
-                                           const WorldBox& bounds, int threads = 1);
+                                           const WorldBox& bounds,
+                                           const PolyhedralHullOptions& options = {});
 
 // The same from CV_8UC1 masks (non-zero = silhouette), with bounds from the viewing cones.
 PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& cameras,

@@ -57,6 +57,32 @@ TEST(PolyhedralHullTest, SphereHullIsClosedAndLiesBetweenTheSphereAndTheConeBoun
       hull.stats.edge_points, nearest, farthest, kRadius, rho, volume, sphere_volume);
 }
 
+// Faces triangulated as the polygons they are and faces assembled from their sweeps'
+// trapezoids with the cuts give the same solid; the polygons add no vertex of their own.
+TEST(PolyhedralHullTest, FacesAsPolygonsAreTheSameSolidWithoutExtraPoints) {
+  const SphereScene scene = MakeSphereScene(0.0, true);
+  PolyhedralHullOptions with_cuts;
+  with_cuts.faces_as_polygons = false;
+  const PolyhedralHullResult polygons = ComputePolyhedralHull(scene.cameras, scene.masks);
+  const PolyhedralHullResult cuts = ComputePolyhedralHull(scene.cameras, scene.masks, with_cuts);
+  ASSERT_TRUE(polygons.success) << polygons.reason;
+  ASSERT_TRUE(cuts.success) << cuts.reason;
+  EXPECT_FALSE(polygons.stats.faces_with_cuts);
+  EXPECT_EQ(polygons.stats.edge_points, 0u);
+  EXPECT_TRUE(cuts.stats.faces_with_cuts);
+  EXPECT_GT(cuts.stats.edge_points, 0u);
+  EXPECT_NEAR(MeshVolume(polygons.mesh), MeshVolume(cuts.mesh), 1e-6 * MeshVolume(cuts.mesh));
+  EXPECT_LT(polygons.mesh.triangles.size(), cuts.mesh.triangles.size());
+  // Every vertex is a vertex of the assembly with cuts (which has the cuts besides).
+  for (const Eigen::Vector3f& x : polygons.mesh.vertices) {
+    float nearest = 1e9f;
+    for (const Eigen::Vector3f& y : cuts.mesh.vertices)
+      nearest = std::min(nearest, (x - y).norm());
+    ASSERT_LT(nearest, 1e-6f);
+  }
+  EXPECT_EQ(CheckClosedManifold(polygons.mesh).euler_characteristic, 2);
+}
+
 // Cone faces and contours computed on several threads give exactly the mesh of one thread.
 TEST(PolyhedralHullTest, ThreadsGiveTheSameMesh) {
   const SphereScene scene = MakeSphereScene(0.0, true);
