@@ -1,5 +1,6 @@
 #include "aggregator/hulls/face_boundary_loops.h"
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -36,9 +37,67 @@ std::vector<std::pair<Corner, Corner>> Stretches(std::vector<VerticalSide>::cons
   return stretches;
 }
 
-// Adds the boundary edges of the trapezoids' vertical sides; false where the sides before and
-// after an inner lambda do not cover the same stretches.
-bool AddVerticalEdges(const std::vector<Trapezoid>& trapezoids, std::vector<BoundaryEdge>& edges) {
+// Adds the boundary edges at one lambda: where the trapezoids before it (right sides,
+// `before`) and after it (left sides, `after`) cover different stretches, the difference,
+// upwards where only `before` covers it (the region lies to its left), downwards where only
+// `after` does. Inside the chart that happens only at a sliver of a slab (a line shorter than
+// the sweep keeps); the cuts at its ends are then kept as vertices, into `kept`.
+void AddDifferenceEdges(double lambda, const std::vector<std::pair<Corner, Corner>>& before,
+                        const std::vector<std::pair<Corner, Corner>>& after,
+                        std::vector<BoundaryEdge>& edges, std::vector<int>& kept) {
+  const bool inner = lambda > 0 && lambda < 1;
+  if (before.empty() || after.empty()) {
+    // The stretches themselves, in their own order even where rounding inverted one.
+    for (const auto& [low, high] : before.empty() ? after : before) {
+      const LoopPoint from{lambda, low.w, low.vertex}, to{lambda, high.w, high.vertex};
+      edges.push_back(before.empty() ? BoundaryEdge{to, from} : BoundaryEdge{from, to});
+      if (inner) kept.insert(kept.end(), {low.vertex, high.vertex});
+    }
+    return;
+  }
+  std::vector<Corner> points;
+  for (const auto* stretches : {&before, &after}) {
+    for (const auto& [low, high] : *stretches) {
+      points.push_back(low);
+      points.push_back(high);
+    }
+  }
+  std::sort(points.begin(), points.end(), [](const Corner& x, const Corner& y) {
+    return x.w < y.w || (x.w == y.w && x.vertex < y.vertex);
+  });
+  points.erase(std::unique(points.begin(), points.end(),
+                           [](const Corner& x, const Corner& y) { return x.vertex == y.vertex; }),
+               points.end());
+  const auto index = [&points](int vertex) {
+    return static_cast<size_t>(
+        std::find_if(points.begin(), points.end(),
+                     [vertex](const Corner& c) { return c.vertex == vertex; }) -
+        points.begin());
+  };
+  // Coverage of the piece between points k and k + 1: +1 for before, +2 for after.
+  std::vector<int> coverage(points.size(), 0);
+  for (const auto& [stretches, bit] : {std::pair(&before, 1), std::pair(&after, 2)}) {
+    for (const auto& [low, high] : *stretches) {
+      for (size_t k = index(low.vertex); k < index(high.vertex); ++k)
+        coverage[k] |= bit;
+    }
+  }
+  for (size_t k = 0; k + 1 < points.size(); ++k) {
+    if (coverage[k] != 1 && coverage[k] != 2) continue;
+    const LoopPoint low{lambda, points[k].w, points[k].vertex};
+    const LoopPoint high{lambda, points[k + 1].w, points[k + 1].vertex};
+    edges.push_back(coverage[k] == 1 ? BoundaryEdge{low, high} : BoundaryEdge{high, low});
+    if (inner) {
+      kept.push_back(low.vertex);
+      kept.push_back(high.vertex);
+    }
+  }
+}
+
+// Adds the boundary edges of the trapezoids' vertical sides (at lambda 0 and 1, and at the
+// slivers inside), the cuts they end at into `kept`.
+void AddVerticalEdges(const std::vector<Trapezoid>& trapezoids, std::vector<BoundaryEdge>& edges,
+                      std::vector<int>& kept) {
   std::vector<VerticalSide> sides;
   sides.reserve(2 * trapezoids.size());
   for (const Trapezoid& t : trapezoids) {
@@ -60,22 +119,15 @@ bool AddVerticalEdges(const std::vector<Trapezoid>& trapezoids, std::vector<Boun
       ++end;
     const auto before = Stretches(begin, split);
     const auto after = Stretches(split, end);
-    if (lambda == 0 && before.empty()) {
-      for (const auto& [low, high] : after)
-        edges.push_back({{lambda, high.w, high.vertex}, {lambda, low.w, low.vertex}});
-    } else if (lambda == 1 && after.empty()) {
-      for (const auto& [low, high] : before)
-        edges.push_back({{lambda, low.w, low.vertex}, {lambda, high.w, high.vertex}});
-    } else if (before.size() != after.size() ||
-               !std::equal(
-                   before.begin(), before.end(), after.begin(), [](const auto& x, const auto& y) {
-                     return x.first.vertex == y.first.vertex && x.second.vertex == y.second.vertex;
-                   })) {
-      return false;
+    const auto same = [](const auto& x, const auto& y) {
+      return x.first.vertex == y.first.vertex && x.second.vertex == y.second.vertex;
+    };
+    if (before.size() != after.size() ||
+        !std::equal(before.begin(), before.end(), after.begin(), same)) {
+      AddDifferenceEdges(lambda, before, after, edges, kept);
     }
     begin = end;
   }
-  return true;
 }
 
 // The turn from direction `in` to `out`, in (-pi, pi], counter-clockwise positive.
@@ -85,9 +137,36 @@ double Turn(const BoundaryEdge& in, const BoundaryEdge& out) {
   return std::atan2(ix * ow - iw * ox, ix * ox + iw * ow);
 }
 
+// Points closer than this in the chart (w scaled to the chart's range) are one point.
+constexpr double kSamePoint = 1e-12;
+// A loop folds back on itself where its turn's sine is below this.
+constexpr double kFoldSine = 1e-9;
+
+// Removes the points where `loop` repeats the previous point or folds back on itself (the
+// zero-area spike a slab sliver leaves), w scaled by 1 / `w_range`.
+void RemoveSpikes(std::vector<LoopPoint>& loop, double w_range) {
+  const auto chart = [w_range](const LoopPoint& p) {
+    return Eigen::Vector2d(p.lambda, p.w / w_range);
+  };
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (size_t k = 0; k < loop.size() && loop.size() >= 3; ++k) {
+      const size_t n = loop.size();
+      const Eigen::Vector2d in = chart(loop[k]) - chart(loop[(k + n - 1) % n]);
+      const Eigen::Vector2d out = chart(loop[(k + 1) % n]) - chart(loop[k]);
+      const double cross = in.x() * out.y() - in.y() * out.x();
+      if (in.norm() <= kSamePoint ||
+          (std::abs(cross) <= kFoldSine * in.norm() * out.norm() && in.dot(out) < 0)) {
+        loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(k));
+        changed = true;
+      }
+    }
+  }
+}
+
 }  // namespace
 
-bool FaceBoundaryLoops(const std::vector<Trapezoid>& trapezoids,
+bool FaceBoundaryLoops(const std::vector<Trapezoid>& trapezoids, double w_range,
                        std::vector<std::vector<LoopPoint>>& loops) {
   loops.clear();
   std::vector<BoundaryEdge> edges;
@@ -99,7 +178,9 @@ bool FaceBoundaryLoops(const std::vector<Trapezoid>& trapezoids,
     if (t.top_a.vertex != t.top_b.vertex)
       edges.push_back({{t.b, t.top_b.w, t.top_b.vertex}, {t.a, t.top_a.w, t.top_a.vertex}});
   }
-  if (!AddVerticalEdges(trapezoids, edges)) return false;
+  std::vector<int> kept;
+  AddVerticalEdges(trapezoids, edges, kept);
+  std::sort(kept.begin(), kept.end());
   // Edges by their first vertex.
   std::vector<std::pair<int, int>> by_from(edges.size());
   for (size_t e = 0; e < edges.size(); ++e)
@@ -135,8 +216,10 @@ bool FaceBoundaryLoops(const std::vector<Trapezoid>& trapezoids,
     }
     std::vector<LoopPoint> named;
     for (const LoopPoint& point : loop) {
-      if (point.vertex >= 0) named.push_back(point);
+      if (point.vertex >= 0 || std::binary_search(kept.begin(), kept.end(), point.vertex))
+        named.push_back(point);
     }
+    RemoveSpikes(named, w_range);
     if (named.size() < 3) return false;
     loops.push_back(std::move(named));
   }

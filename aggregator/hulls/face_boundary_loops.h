@@ -35,11 +35,14 @@ struct LoopPoint {
 // The boundary loops of the union of `trapezoids` (a face's, in sweep order: slabs contiguous
 // over [0, 1] in lambda, corners shared by name between neighbouring slabs), into `loops`:
 // counter-clockwise around the region in (lambda, w), holes clockwise, loops that touch at a
-// vertex kept apart where they can be, the cuts (corners with a negative vertex) left out.
-// False if the union's boundary is not a set of closed loops through named vertices: a side
-// of a trapezoid on the boundary inside the chart (a near-degenerate configuration), or a
-// boundary line that ends at a cut; the caller then keeps the cuts.
-bool FaceBoundaryLoops(const std::vector<Trapezoid>& trapezoids,
+// vertex kept apart where they can be, the cuts (corners with a negative vertex) left out
+// but for the ends of trapezoid sides on the boundary inside the chart (the sides of a slab
+// sliver where a line too short for the sweep was left out; the caller gives them positions),
+// and without the points where a loop repeats a point or folds back on itself (a zero-area
+// spike such a sliver leaves), measured with w scaled to [0, 1] over `w_range`.
+// False if the union's boundary is not a set of closed loops: a boundary line that ends
+// where none continues (faces deciding a near-degenerate configuration differently).
+bool FaceBoundaryLoops(const std::vector<Trapezoid>& trapezoids, double w_range,
                        std::vector<std::vector<LoopPoint>>& loops);
 
 }  // namespace silnet::aggregator

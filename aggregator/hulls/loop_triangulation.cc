@@ -50,7 +50,10 @@ std::optional<bool> StrictlyInside(const std::vector<Eigen::Vector2d>& loop,
 // then clipped ear by ear.
 class EarClipper {
  public:
-  explicit EarClipper(std::vector<std::array<int, 3>>& triangles) : triangles_(triangles) {}
+  // `rounding`: the turn (twice a triangle's area) that counts as flat once only flat ears
+  // are left.
+  EarClipper(std::vector<std::array<int, 3>>& triangles, double rounding)
+      : triangles_(triangles), rounding_(rounding) {}
 
   // Adds a loop's points as a ring; returns its first node.
   int AddRing(const std::vector<Eigen::Vector2d>& loop, int first_index) {
@@ -137,7 +140,7 @@ class EarClipper {
     const Eigen::Vector2d& b = At(ear);
     const Eigen::Vector2d& c = At(Next(ear));
     const double turn = Cross(a, b, c);
-    if (allow_flat ? turn < 0 : turn <= 0) return false;
+    if (allow_flat ? turn < -rounding_ : turn <= 0) return false;
     for (int p = Next(Next(ear)); p != Prev(ear); p = Next(p)) {
       const Eigen::Vector2d& x = At(p);
       if (x == a || x == b || x == c) continue;
@@ -218,6 +221,7 @@ class EarClipper {
 
   std::vector<Node> nodes_;
   std::vector<std::array<int, 3>>& triangles_;
+  double rounding_;
 };
 
 }  // namespace
@@ -283,7 +287,7 @@ LoopTriangulation TriangulateLoops(const std::vector<std::vector<Eigen::Vector2d
     }
     holes_of[owner].push_back(hole);
   }
-  EarClipper clipper(result.triangles);
+  EarClipper clipper(result.triangles, 2 * rounding);
   for (const size_t outer : outers) {
     const int ring = clipper.AddRing(loops[outer], first[outer]);
     std::vector<std::pair<double, int>> hole_rings;

@@ -225,7 +225,7 @@ class HullAssembler {
   bool AddFacePolygon(const FaceRegion& region) {
     const FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
     if (face.trapezoids.empty()) return true;
-    if (!FaceBoundaryLoops(face.trapezoids, loops_)) return false;
+    if (!FaceBoundaryLoops(face.trapezoids, region.w_max - region.w_min, loops_)) return false;
     const double w_scale = 1 / (region.w_max - region.w_min);
     chart_loops_.resize(loops_.size());
     loop_vertices_.clear();
@@ -233,7 +233,7 @@ class HullAssembler {
       chart_loops_[k].clear();
       for (const LoopPoint& point : loops_[k]) {
         chart_loops_[k].emplace_back(point.lambda, (point.w - region.w_min) * w_scale);
-        loop_vertices_.push_back(point.vertex);
+        loop_vertices_.push_back(point.vertex >= 0 ? point.vertex : SliverVertex(region, point));
       }
     }
     chart_loops_.resize(loops_.size());
@@ -327,6 +327,15 @@ class HullAssembler {
   const PolyhedralHullStats& Stats() const { return stats_; }
 
  private:
+  // A position for a cut the face's boundary keeps (at a sliver of a slab, face_boundary_loops.h):
+  // on this face and one of its lines, so welding merges it with the named vertex it all but
+  // coincides with.
+  int SliverVertex(const FaceRegion& region, const LoopPoint& point) {
+    positions_.push_back(region.Point(point.lambda, point.w));
+    planes_.push_back({region.plane, region.plane, -1});
+    return static_cast<int>(positions_.size()) - 1;
+  }
+
   // The vertex of a corner on line `line` at `lambda` (slab boundary `boundary`); for a cut
   // not to be named, the next unused negative number.
   int VertexFor(const FaceRegion& region, const ConePlane& plane, int line, double lambda, double w,
