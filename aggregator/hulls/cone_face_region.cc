@@ -124,7 +124,12 @@ bool AddViewLines(const ConePlaneSet& set, int face_view, int view, FaceRegion& 
     if (line.dot(centre / centre.z()) < 0) line = -line;
     mapping.sides[s] = line;
   }
-  corner_inside = set.Contains(view, corners[0].hnormalized());
+  // Outside the silhouette's bounding octagon, the corner is outside the silhouette.
+  const Eigen::Vector2d corner = corners[0].hnormalized();
+  corner_inside = true;
+  for (const Eigen::Vector3d& side : set.BoundingOctagon(view))
+    corner_inside = corner_inside && side.dot(corner.homogeneous()) >= 0;
+  corner_inside = corner_inside && set.Contains(view, corner);
 
   candidates.clear();
   set.CandidateEdges(face_view, view, region.d_p, region.d_q, candidates);
@@ -186,7 +191,8 @@ struct LineRange {
 
 // Buffers a face's computation reuses (one set per thread).
 struct FaceScratch {
-  std::vector<int> candidates, order;
+  std::vector<int> candidates;
+  std::vector<std::pair<double, int>> order;  // lines by their lowest w
   std::vector<Bound> bounds, crossings, view_bounds, merged;
   std::vector<double> cuts;
   std::vector<LineRange> view_lines;
@@ -290,18 +296,16 @@ bool InsideOtherViews(const FaceRegion& region, FaceScratch& scratch, int skip_a
 // crossings where the region can gain or lose a vertex (triple points, and the lambdas
 // where an interval is born or dies).
 void AddCrossingEvents(FaceRegion& region, FaceScratch& scratch) {
-  std::vector<int>& by_w = scratch.order;
-  by_w.resize(region.lines.size());
-  for (size_t l = 0; l < by_w.size(); ++l)
-    by_w[l] = static_cast<int>(l);
+  std::vector<std::pair<double, int>>& by_w = scratch.order;
   const std::vector<ChartLine>& lines = region.lines;
-  std::sort(by_w.begin(), by_w.end(), [&lines](int x, int y) {
-    return lines[static_cast<size_t>(x)].w_lo < lines[static_cast<size_t>(y)].w_lo;
-  });
+  by_w.resize(lines.size());
+  for (size_t l = 0; l < by_w.size(); ++l)
+    by_w[l] = {lines[l].w_lo, static_cast<int>(l)};
+  std::sort(by_w.begin(), by_w.end());
   for (size_t f = 0; f < by_w.size(); ++f) {
-    const ChartLine& first = lines[static_cast<size_t>(by_w[f])];
+    const ChartLine& first = lines[static_cast<size_t>(by_w[f].second)];
     for (size_t g = f + 1; g < by_w.size(); ++g) {
-      const ChartLine& second = lines[static_cast<size_t>(by_w[g])];
+      const ChartLine& second = lines[static_cast<size_t>(by_w[g].second)];
       if (second.w_lo > first.w_hi) break;
       if (first.view == second.view) continue;
       const double lambda = Crossing(first, second);
