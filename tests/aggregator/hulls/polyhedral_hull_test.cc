@@ -135,6 +135,7 @@ TEST(PolyhedralHullTest, SymmetricRingIsClosed) {
   const PolyhedralHullResult hull = ComputePolyhedralHull(scene.cameras, scene.masks);
   ASSERT_TRUE(hull.success) << hull.reason;
   EXPECT_FALSE(hull.stats.faces_with_cuts);
+  EXPECT_EQ(hull.stats.gaps_filled, 0u);
   const MeshCheck check = CheckClosedManifold(hull.mesh);
   EXPECT_TRUE(check.closed_manifold) << check.reason;
   EXPECT_EQ(check.euler_characteristic, 2);
