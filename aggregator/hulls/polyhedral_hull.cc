@@ -221,7 +221,8 @@ class HullAssembler {
   // Pass two, the hull's own vertices only: triangulates the polygon `region` really is (its
   // trapezoids' boundary without the sweep's cuts). False when that boundary is not closed
   // loops of named vertices or does not triangulate (a near-degenerate face); the caller then
-  // assembles every face with the cuts instead (Clear, AddTriangles).
+  // assembles every face with the cuts instead (StartOver, AddCorners naming the cuts,
+  // IndexCuts, AddTriangles).
   bool AddFacePolygon(const FaceRegion& region) {
     const FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
     if (face.trapezoids.empty()) return true;
@@ -236,7 +237,6 @@ class HullAssembler {
         loop_vertices_.push_back(point.vertex >= 0 ? point.vertex : SliverVertex(region, point));
       }
     }
-    chart_loops_.resize(loops_.size());
     const LoopTriangulation triangulation = TriangulateLoops(chart_loops_);
     if (!triangulation.success) return false;
     ++stats_.hull_faces;
