@@ -220,8 +220,7 @@ bool FaceBoundaryLoops(const std::vector<Trapezoid>& trapezoids, double w_range,
         named.push_back(point);
     }
     RemoveSpikes(named, w_range);
-    if (named.size() < 3) return false;
-    loops.push_back(std::move(named));
+    if (named.size() >= 3) loops.push_back(std::move(named));  // else it had no area
   }
   return true;
 }

@@ -40,8 +40,8 @@ struct LoopPoint {
 // sliver where a line too short for the sweep was left out; the caller gives them positions),
 // and without the points where a loop repeats a point or folds back on itself (a zero-area
 // spike such a sliver leaves), measured with w scaled to [0, 1] over `w_range`.
-// False if the union's boundary is not a set of closed loops: a boundary line that ends
-// where none continues (faces deciding a near-degenerate configuration differently).
+// Loops without area (a sliver of a face) are left out. False if the union's boundary is not
+// a set of closed loops: a boundary line that ends where none continues.
 bool FaceBoundaryLoops(const std::vector<Trapezoid>& trapezoids, double w_range,
                        std::vector<std::vector<LoopPoint>>& loops);
 

@@ -146,6 +146,8 @@ HullFrameResult BuildFrame(const SilhouetteSource& silhouettes,
   if (config.options.polyhedral) {
     PolyhedralHullOptions exact_options;
     exact_options.threads = carve.threads;
+    // A subject partly outside one view stays exact while the other views bound it.
+    exact_options.border_extension = 0.5;
     PolyhedralHullResult exact = ComputePolyhedralHull(cameras, masks, exact_options);
     if (exact.success) {
       mesh = std::move(exact.mesh);

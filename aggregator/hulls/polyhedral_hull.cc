@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
+#include <opencv2/core.hpp>
 #include <unordered_map>
 
 #include "aggregator/hulls/cone_face_region.h"
@@ -227,6 +229,7 @@ class HullAssembler {
     const FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
     if (face.trapezoids.empty()) return true;
     if (!FaceBoundaryLoops(face.trapezoids, region.w_max - region.w_min, loops_)) return false;
+    if (loops_.empty()) return true;  // a sliver without area
     const double w_scale = 1 / (region.w_max - region.w_min);
     chart_loops_.resize(loops_.size());
     loop_vertices_.clear();
@@ -537,6 +540,47 @@ int TouchesBorder(const std::vector<CameraModel>& cameras,
   return -1;
 }
 
+// True if a mask has a silhouette pixel on its outermost rows or columns.
+bool MaskTouchesBorder(const cv::Mat& mask) {
+  return cv::countNonZero(mask.row(0)) > 0 || cv::countNonZero(mask.row(mask.rows - 1)) > 0 ||
+         cv::countNonZero(mask.col(0)) > 0 || cv::countNonZero(mask.col(mask.cols - 1)) > 0;
+}
+
+// Extends the mask of `camera` by `margin` pixels on every side, its border pixels repeated
+// outwards and the new outermost ring left empty (so the extension ends inside the larger
+// image), and moves the camera's principal point and size with it.
+void ExtendBeyondBorder(int margin, CameraModel& camera, cv::Mat& mask) {
+  cv::Mat extended;
+  cv::copyMakeBorder(mask, extended, margin, margin, margin, margin, cv::BORDER_REPLICATE);
+  extended.row(0).setTo(0);
+  extended.row(extended.rows - 1).setTo(0);
+  extended.col(0).setTo(0);
+  extended.col(extended.cols - 1).setTo(0);
+  mask = extended;
+  camera.K(0, 2) += margin;
+  camera.K(1, 2) += margin;
+  camera.width += 2 * margin;
+  camera.height += 2 * margin;
+}
+
+// The first extended camera (margin > 0) in whose outer half of the extension a hull vertex
+// projects, or -1.
+int LeavesExtension(const std::vector<CameraModel>& cameras, const std::vector<int>& margins,
+                    const TriangleMesh& mesh) {
+  for (size_t v = 0; v < cameras.size(); ++v) {
+    if (margins[v] == 0) continue;
+    const Matrix34d P = cameras[v].ProjectionMatrix();
+    const double limit = 0.5 * margins[v];
+    const double right = cameras[v].width - limit, bottom = cameras[v].height - limit;
+    for (const Eigen::Vector3f& x : mesh.vertices) {
+      const Eigen::Vector2d pixel = (P * x.cast<double>().homogeneous()).hnormalized();
+      if (pixel.x() < limit || pixel.y() < limit || pixel.x() > right || pixel.y() > bottom)
+        return static_cast<int>(v);
+    }
+  }
+  return -1;
+}
+
 }  // namespace
 
 PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& cameras,
@@ -647,13 +691,26 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     result.reason = MaskShapeProblem(cameras[v], masks[v]);
     if (!result.reason.empty()) return result;
   }
+  // Silhouettes the image border cuts, extended beyond it where asked.
+  std::vector<CameraModel> hull_cameras = cameras;
+  std::vector<cv::Mat> hull_masks = masks;
+  std::vector<int> margins(masks.size(), 0);
+  for (size_t v = 0; v < masks.size(); ++v) {
+    if (!(options.border_extension > 0) || cameras[v].HasDistortion() ||
+        !MaskTouchesBorder(masks[v])) {
+      continue;
+    }
+    margins[v] = static_cast<int>(
+        std::ceil(options.border_extension * std::max(masks[v].cols, masks[v].rows)));
+    ExtendBeyondBorder(margins[v], hull_cameras[v], hull_masks[v]);
+  }
   std::vector<SilhouetteContours> contours(masks.size());
   std::vector<cv::Rect> rects(masks.size());
   ParallelFor(masks.size(), options.threads, [&](size_t v) {
-    contours[v] = ExtractContours(masks[v], contour_options);
-    rects[v] = PixelRect(contours[v], masks[v].size());
+    contours[v] = ExtractContours(hull_masks[v], contour_options);
+    rects[v] = PixelRect(contours[v], hull_masks[v].size());
   });
-  const ViewingConeBounds bounds = ComputeViewingConeBounds(cameras, rects);
+  const ViewingConeBounds bounds = ComputeViewingConeBounds(hull_cameras, rects);
   if (!bounds.success) {
     result.reason = bounds.reason;
     return result;
@@ -662,7 +719,28 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
   const Eigen::Vector3d pad = options.bounds_padding * box.sizes();
   box.min() -= pad;
   box.max() += pad;
-  return ComputePolyhedralHull(cameras, contours, box, options);
+  result = ComputePolyhedralHull(hull_cameras, contours, box, options);
+  if (result.success) {
+    if (const int v = LeavesExtension(hull_cameras, margins, result.mesh); v >= 0) {
+      result = PolyhedralHullResult{};
+      result.reason = fmt::format(
+          "the silhouette of {} touches the image border and the hull reaches far beyond it",
+          cameras[static_cast<size_t>(v)].id);
+    }
+  } else {
+    std::string extended;
+    for (size_t v = 0; v < cameras.size(); ++v) {
+      if (margins[v] == 0) continue;
+      if (!extended.empty()) extended += ", ";
+      extended += cameras[v].id;
+    }
+    if (!extended.empty()) {
+      result.reason =
+          fmt::format("{} (with the silhouettes of {} extended beyond the image border)",
+                      result.reason, extended);
+    }
+  }
+  return result;
 }
 
 }  // namespace silnet::aggregator

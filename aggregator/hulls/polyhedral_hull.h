@@ -79,6 +79,13 @@ struct PolyhedralHullOptions {
   // Faces as polygons of the hull's own vertices; false: straight to the assembly with the
   // sweeps' cuts that the hull otherwise falls back to (for tests and comparisons).
   bool faces_as_polygons = true;
+  // A silhouette the image border cuts continues beyond the frame: > 0 extends such masks by
+  // this fraction of the image's larger side (the border pixels repeated outwards, the
+  // camera's principal point moved with them) instead of refusing them, and refuses a hull
+  // that reaches the outer half of an extension (the subject leaves that view too far for
+  // the other views to bound it). Cameras with lens distortion are refused as before. 0: such
+  // silhouettes are refused (the stereo job keeps those views apart itself).
+  double border_extension = 0;
 };
 
 // Builds the hull from one silhouette outline per camera (pixels of the camera's image, as

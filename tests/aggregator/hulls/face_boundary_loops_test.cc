@@ -96,7 +96,15 @@ TEST(FaceBoundaryLoopsTest, ASliverOfASlabLeavesNoSpike) {
 
 TEST(FaceBoundaryLoopsTest, AFaceWithoutAreaHasNoLoop) {
   std::vector<std::vector<LoopPoint>> loops;
-  EXPECT_FALSE(FaceBoundaryLoops({Make(0, 1, {0, 0}, {0, 1}, {0, 0}, {0, 1})}, 1.0, loops));
+  EXPECT_TRUE(FaceBoundaryLoops({Make(0, 1, {0, 0}, {0, 1}, {0, 0}, {0, 1})}, 1.0, loops));
+  EXPECT_TRUE(loops.empty());
+  // A sliver 1e-15 wide inside the chart whose corners all but coincide (the Middlebury
+  // temple has one).
+  EXPECT_TRUE(
+      FaceBoundaryLoops({Make(5.2582927419725e-14, 5.36151688901388e-14, {1.71866669376, 59},
+                              {1.73062801507, 60}, {1.73062801507, -76}, {1.73062801507, 60})},
+                        0.5, loops));
+  EXPECT_TRUE(loops.empty());
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <opencv2/imgproc.hpp>
 #include <vector>
 
 #include "aggregator/hulls/mesh_check.h"
@@ -171,6 +172,49 @@ TEST(PolyhedralHullTest, ReportsEmptyAndCutOffSilhouettes) {
   hull = ComputePolyhedralHull(scene.cameras, masks);
   EXPECT_FALSE(hull.success);
   EXPECT_NE(hull.reason.find("border"), std::string::npos) << hull.reason;
+}
+
+// A view whose silhouette the image border cuts (the frame cropped through the sphere):
+// refused by default; with the extension, a closed hull that the view bounds only inside its
+// frame: between the hull of all full views and the hull without that view. A subject that
+// runs far off every image (nothing bounds it there) is still refused.
+TEST(PolyhedralHullTest, ExtendsSilhouettesTheImageBorderCuts) {
+  const SphereScene scene = MakeSphereScene(0.0, true);
+  const cv::Rect box = cv::boundingRect(scene.masks[0]);
+  const int crop = box.x + box.width / 3;  // a third of the silhouette outside the frame
+  std::vector<CameraModel> cameras = scene.cameras;
+  std::vector<cv::Mat> masks = scene.masks;
+  masks[0] = scene.masks[0].colRange(crop, scene.masks[0].cols).clone();
+  cameras[0].K(0, 2) -= crop;
+  cameras[0].width -= crop;
+  EXPECT_FALSE(ComputePolyhedralHull(cameras, masks).success);
+
+  PolyhedralHullOptions extend;
+  extend.border_extension = 0.5;
+  const PolyhedralHullResult cut = ComputePolyhedralHull(cameras, masks, extend);
+  ASSERT_TRUE(cut.success) << cut.reason;
+  EXPECT_TRUE(CheckClosedManifold(cut.mesh).closed_manifold);
+  const PolyhedralHullResult full = ComputePolyhedralHull(scene.cameras, scene.masks);
+  const PolyhedralHullResult without = ComputePolyhedralHull(
+      std::vector<CameraModel>(scene.cameras.begin() + 1, scene.cameras.end()),
+      std::vector<cv::Mat>(scene.masks.begin() + 1, scene.masks.end()));
+  ASSERT_TRUE(full.success && without.success);
+  const double volume = MeshVolume(cut.mesh);
+  EXPECT_GT(volume, MeshVolume(full.mesh) * (1 + 1e-4));
+  EXPECT_LT(volume, MeshVolume(without.mesh) * (1 - 1e-4));
+  std::printf("border-cut view: volume %.5f m^3 between %.5f (all views) and %.5f (without it)\n",
+              volume, MeshVolume(full.mesh), MeshVolume(without.mesh));
+
+  // A pole through every frame, top to bottom: no view bounds it above or below.
+  masks = scene.masks;
+  for (size_t v = 0; v < masks.size(); ++v) {
+    const cv::Rect sphere = cv::boundingRect(scene.masks[v]);
+    masks[v] = cv::Mat::zeros(scene.masks[v].size(), CV_8UC1);
+    masks[v].colRange(sphere.x, sphere.x + sphere.width).setTo(255);
+  }
+  const PolyhedralHullResult pole = ComputePolyhedralHull(scene.cameras, masks, extend);
+  EXPECT_FALSE(pole.success);
+  EXPECT_NE(pole.reason.find("beyond the image border"), std::string::npos) << pole.reason;
 }
 
 }  // namespace
