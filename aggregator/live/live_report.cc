@@ -106,7 +106,7 @@ std::string HullsSection(const LiveJobResult& r) {
       spurious += v.spurious_fraction / static_cast<double>(f.views.size());
     }
     table.AddRow({std::to_string(f.frame), f.file, f.method, f.closed_manifold ? "yes" : "no",
-                  std::to_string(f.triangles), fmt::format("{:.4f}", f.volume_m3), Percent(missed),
+                  std::to_string(f.triangles), fmt::format("{:.4g}", f.volume_m3), Percent(missed),
                   Percent(spurious), f.success ? f.polyhedral_failure : f.reason},
                  f.success ? "" : "bad");
   }
