@@ -524,8 +524,8 @@ cv::Rect PixelRect(const SilhouetteContours& contours, const cv::Size& image) {
 }
 
 // The first camera whose silhouette touches its image border, or -1.
-int TouchesBorder(const std::vector<CameraModel>& cameras,
-                  const std::vector<SilhouetteContours>& contours) {
+int FirstCameraTouchingBorder(const std::vector<CameraModel>& cameras,
+                              const std::vector<SilhouetteContours>& contours) {
   // Outline points of a border pixel lie 0.25 to 0.5 px outside the image's pixel centres.
   for (size_t v = 0; v < cameras.size(); ++v) {
     const float right = static_cast<float>(cameras[v].width) - 1.25f;
@@ -538,12 +538,6 @@ int TouchesBorder(const std::vector<CameraModel>& cameras,
     }
   }
   return -1;
-}
-
-// True if a mask has a silhouette pixel on its outermost rows or columns.
-bool MaskTouchesBorder(const cv::Mat& mask) {
-  return cv::countNonZero(mask.row(0)) > 0 || cv::countNonZero(mask.row(mask.rows - 1)) > 0 ||
-         cv::countNonZero(mask.col(0)) > 0 || cv::countNonZero(mask.col(mask.cols - 1)) > 0;
 }
 
 // Extends the mask of `camera` by `margin` pixels on every side, its border pixels repeated
@@ -583,6 +577,11 @@ int LeavesExtension(const std::vector<CameraModel>& cameras, const std::vector<i
 
 }  // namespace
 
+bool TouchesBorder(const cv::Mat& mask) {
+  return cv::countNonZero(mask.row(0)) > 0 || cv::countNonZero(mask.row(mask.rows - 1)) > 0 ||
+         cv::countNonZero(mask.col(0)) > 0 || cv::countNonZero(mask.col(mask.cols - 1)) > 0;
+}
+
 PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& cameras,
                                            const std::vector<SilhouetteContours>& contours,
                                            const WorldBox& bounds,
@@ -601,7 +600,7 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
       return result;
     }
   }
-  if (const int v = TouchesBorder(cameras, contours); v >= 0) {
+  if (const int v = FirstCameraTouchingBorder(cameras, contours); v >= 0) {
     result.reason = fmt::format("the silhouette of {} touches the image border",
                                 cameras[static_cast<size_t>(v)].id);
     return result;
@@ -696,8 +695,7 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
   std::vector<cv::Mat> hull_masks = masks;
   std::vector<int> margins(masks.size(), 0);
   for (size_t v = 0; v < masks.size(); ++v) {
-    if (!(options.border_extension > 0) || cameras[v].HasDistortion() ||
-        !MaskTouchesBorder(masks[v])) {
+    if (!(options.border_extension > 0) || cameras[v].HasDistortion() || !TouchesBorder(masks[v])) {
       continue;
     }
     margins[v] = static_cast<int>(

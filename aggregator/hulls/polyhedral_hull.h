@@ -88,6 +88,10 @@ struct PolyhedralHullOptions {
   double border_extension = 0;
 };
 
+// True if any pixel of the outermost rows or columns of `mask` is silhouette: the subject
+// may continue outside the image, so the silhouette does not bound it.
+bool TouchesBorder(const cv::Mat& mask);
+
 // Builds the hull from one silhouette outline per camera (pixels of the camera's image, as
 // ExtractContours gives them) inside `bounds`, which must contain the hull and lie in front
 // of every camera. Fails as data (never throws) on empty silhouettes, silhouettes touching

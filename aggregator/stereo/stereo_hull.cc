@@ -31,11 +31,6 @@ double FootprintAtConesCentre(const CutSilhouettes& views) {
 
 }  // namespace
 
-bool TouchesBorder(const cv::Mat& mask) {
-  return cv::countNonZero(mask.row(0)) > 0 || cv::countNonZero(mask.row(mask.rows - 1)) > 0 ||
-         cv::countNonZero(mask.col(0)) > 0 || cv::countNonZero(mask.col(mask.cols - 1)) > 0;
-}
-
 BorderCarving CarveByBorderViews(const CutSilhouettes& border, const CutSilhouettes& bounded,
                                  double margin_px, VoxelGrid* grid) {
   BorderCarving carving;

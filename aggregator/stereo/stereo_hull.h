@@ -14,10 +14,6 @@
 
 namespace silnet::aggregator {
 
-// True if any pixel of the outermost rows or columns of `mask` is silhouette: the subject
-// may continue outside the image, so the silhouette does not bound it.
-bool TouchesBorder(const cv::Mat& mask);
-
 // What carving by the silhouettes the image border cuts did to a hull on the lattice.
 struct BorderCarving {
   size_t carved = 0;    // cells cleared by a border view's background
