@@ -5,6 +5,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
+#include <limits>
+#include <utility>
 
 namespace silnet::aggregator {
 namespace {
@@ -97,10 +99,12 @@ bool NarrowToSilhouetteBounds(const ConePlaneSet& set, int face_view, FaceRegion
   return true;
 }
 
-// Builds the lines of one other view's contour edges that cross the chart box, and the events
-// they cause. Returns false if the box is not entirely in front of that camera.
-bool AddViewLines(const ConePlaneSet& set, int face_view, int view, FaceRegion& region,
-                  bool& corner_inside, std::vector<int>& candidates) {
+// Builds the lines of one other view's contour edges that cross the chart box (the region's
+// current w-range) into `lines`, and the events they cause into `events`. Returns false if the
+// box is not entirely in front of that camera.
+bool AddViewLines(const ConePlaneSet& set, int face_view, int view, const FaceRegion& region,
+                  bool& corner_inside, std::vector<int>& candidates, std::vector<ChartLine>& lines,
+                  std::vector<ChartEvent>& events) {
   ViewMapping mapping;
   mapping.to_image = ChartToImage(set, view, region);
   mapping.to_chart = mapping.to_image.inverse();
@@ -170,10 +174,10 @@ bool AddViewLines(const ConePlaneSet& set, int face_view, int view, FaceRegion& 
     if (side0 == kBottom) line.bottom_crossing = a.x();
     if (side1 == kBottom) line.bottom_crossing = b.x();
     if (line.lambda_hi - line.lambda_lo <= kLambdaEpsilon) continue;
-    region.lines.push_back(line);
+    lines.push_back(line);
     const auto add_event = [&](const Eigen::Vector2d& end, int side, int neighbour) {
       if (end.x() <= 0 || end.x() >= 1 || side != kVertex) return;
-      region.events.push_back({end.x(), end.y(), index, neighbour});
+      events.push_back({end.x(), end.y(), index, neighbour});
     };
     add_event(a, side0, plane.prev);
     add_event(b, side1, plane.next);
@@ -183,6 +187,58 @@ bool AddViewLines(const ConePlaneSet& set, int face_view, int view, FaceRegion& 
 
 // An interval bound: w and the line there (-1 for the chart box).
 using Bound = std::pair<double, int>;
+
+// One other view's lines and vertex events, built for the chart box w in [w_min, w_max].
+struct ViewBuild {
+  std::vector<ChartLine> lines;
+  std::vector<ChartEvent> events;
+  bool corner_inside = false;
+  double w_min = 0, w_max = 0;
+};
+
+// True if the sweep sees a view's silhouette reach the top of the chart box on some lambda
+// interval: along w = w_max the inside flips at every line's end and bottom crossing (a line
+// left out as vertical flips it too, which the sweep, and so this, does not see). `toggles` is
+// scratch.
+bool ReachesTop(const ViewBuild& build, std::vector<double>& toggles) {
+  bool inside = build.corner_inside;  // at lambda = 0+
+  toggles.clear();
+  for (const ChartLine& line : build.lines) {
+    if (line.lambda_lo > 0) {
+      toggles.push_back(line.lambda_lo);
+    } else {
+      inside = !inside;
+    }
+    if (line.lambda_hi < 1) toggles.push_back(line.lambda_hi);
+    if (line.bottom_crossing > 0) {
+      toggles.push_back(line.bottom_crossing);
+    } else if (line.bottom_crossing == 0) {
+      inside = !inside;
+    }
+  }
+  std::sort(toggles.begin(), toggles.end());
+  double previous = 0;
+  for (double lambda : toggles) {
+    if (inside && lambda > previous) return true;
+    inside = !inside;
+    previous = lambda;
+  }
+  return inside && previous < 1;
+}
+
+// The w-range of a view's silhouette as the sweep sees it inside the chart box it was built
+// for: the box's side where the silhouette reaches it, otherwise the lowest or highest w of its
+// lines.
+std::pair<double, double> SilhouetteWRange(const ViewBuild& build, std::vector<double>& toggles) {
+  bool bottom = build.corner_inside;
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (const ChartLine& line : build.lines) {
+    low = std::min(low, line.w_lo);
+    high = std::max(high, line.w_hi);
+    bottom = bottom || line.bottom_crossing >= 0;
+  }
+  return {bottom ? build.w_min : low, ReachesTop(build, toggles) ? build.w_max : high};
+}
 
 // One view's lines: FaceRegion::lines[begin, end).
 struct LineRange {
@@ -198,7 +254,11 @@ struct FaceScratch {
   std::vector<LineRange> view_lines;
   std::vector<Eigen::Vector2d> polygon, clipped;
   std::vector<char> corner_inside;
-  int last_rejecting = -1;  // the view InsideOtherViews tries first
+  int last_rejecting = -1;        // the view InsideOtherViews tries first
+  std::vector<ViewBuild> builds;  // per view
+  std::vector<double> narrowing;  // per view: its share of the last face's chart w-range
+  std::vector<int> view_order;    // the other views, most narrowing first
+  int failed_view = -1;           // the camera a face's box is not in front of
 };
 
 // The w-intervals inside one view's silhouette along the vertical chart line at `lambda`,
@@ -317,10 +377,97 @@ void AddCrossingEvents(FaceRegion& region, FaceScratch& scratch) {
   }
 }
 
-}  // namespace
+constexpr const char* kReachesBounds = "the hull reaches the bounds it was computed in";
 
-FaceRegion ComputeFaceRegion(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
-                             int plane_index, const WorldBox& box) {
+// The chart box is narrowed to the region's w-range found so far (with this share of it as a
+// margin on each side) when that is at most kNarrowingWorth of the box.
+constexpr double kNarrowingMargin = 1e-3;
+// and at least this share of the box's w-range before narrowing.
+constexpr double kLeastNarrowingMargin = 1e-6;
+constexpr double kNarrowingWorth = 0.7;
+
+// What BuildViewLines found.
+enum class BuildOutcome { kBuilt, kEmpty, kBehindCamera };
+
+// Builds one other view's lines and events into scratch.builds[view] for the region's box.
+BuildOutcome BuildView(const ConePlaneSet& set, int face_view, int view, const FaceRegion& region,
+                       FaceScratch& scratch) {
+  ViewBuild& build = scratch.builds[static_cast<size_t>(view)];
+  build.lines.clear();
+  build.events.clear();
+  build.w_min = region.w_min;
+  build.w_max = region.w_max;
+  if (!AddViewLines(set, face_view, view, region, build.corner_inside, scratch.candidates,
+                    build.lines, build.events)) {
+    scratch.failed_view = view;
+    return BuildOutcome::kBehindCamera;
+  }
+  // With no line and its corner outside, the face lies entirely outside that view's cone.
+  return build.lines.empty() && !build.corner_inside ? BuildOutcome::kEmpty : BuildOutcome::kBuilt;
+}
+
+// Builds every other view's lines into region.lines (scratch.view_lines giving each view's
+// range, scratch.corner_inside whether the chart's corner lies in its silhouette) and their
+// contour-vertex events into region.events. The views are taken in the order that narrowed the
+// previous face most; each narrows the chart's w-range to its silhouette's, and the box is
+// shrunk to that range (the region lies inside it) so the following views' lines, crossings
+// and intervals are few; views built for a wider box are built again for the final one.
+BuildOutcome BuildViewLines(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
+                            int face_view, bool narrow, FaceRegion& region, FaceScratch& scratch) {
+  const size_t views = cameras.size();
+  scratch.builds.resize(views);
+  if (scratch.narrowing.size() != views) scratch.narrowing.assign(views, 1.0);
+  scratch.view_order.clear();
+  for (size_t v = 0; v < views; ++v) {
+    if (static_cast<int>(v) != face_view) scratch.view_order.push_back(static_cast<int>(v));
+  }
+  std::stable_sort(scratch.view_order.begin(), scratch.view_order.end(), [&](int a, int b) {
+    return scratch.narrowing[static_cast<size_t>(a)] < scratch.narrowing[static_cast<size_t>(b)];
+  });
+  double low = region.w_min, high = region.w_max;
+  const double least_margin = kLeastNarrowingMargin * (high - low);
+  for (int view : scratch.view_order) {
+    const BuildOutcome outcome = BuildView(set, face_view, view, region, scratch);
+    if (outcome != BuildOutcome::kBuilt) return outcome;
+    const ViewBuild& build = scratch.builds[static_cast<size_t>(view)];
+    const auto [a, b] = SilhouetteWRange(build, scratch.cuts);
+    scratch.narrowing[static_cast<size_t>(view)] = (b - a) / (build.w_max - build.w_min);
+    low = std::max(low, a);
+    high = std::min(high, b);
+    if (!(low < high)) return BuildOutcome::kEmpty;
+    const double margin = kNarrowingMargin * (high - low) + least_margin;
+    if (narrow && high - low + 2 * margin <= kNarrowingWorth * (region.w_max - region.w_min)) {
+      region.w_min = std::max(region.w_min, low - margin);
+      region.w_max = std::min(region.w_max, high + margin);
+    }
+  }
+  scratch.view_lines.assign(views, LineRange{});
+  scratch.corner_inside.assign(views, 1);
+  region.lines.clear();
+  region.events.clear();
+  for (int view : scratch.view_order) {
+    const auto v = static_cast<size_t>(view);
+    if (scratch.builds[v].w_min != region.w_min || scratch.builds[v].w_max != region.w_max) {
+      const BuildOutcome outcome = BuildView(set, face_view, view, region, scratch);
+      if (outcome != BuildOutcome::kBuilt) return outcome;
+    }
+  }
+  for (size_t v = 0; v < views; ++v) {
+    if (static_cast<int>(v) == face_view) continue;
+    const ViewBuild& build = scratch.builds[v];
+    const int first = static_cast<int>(region.lines.size());
+    region.lines.insert(region.lines.end(), build.lines.begin(), build.lines.end());
+    region.events.insert(region.events.end(), build.events.begin(), build.events.end());
+    scratch.view_lines[v] = {first, static_cast<int>(region.lines.size())};
+    scratch.corner_inside[v] = build.corner_inside ? 1 : 0;
+  }
+  scratch.last_rejecting = -1;
+  return BuildOutcome::kBuilt;
+}
+
+// The face's region, in the chart box narrowed to it as the views are built if `narrow`.
+FaceRegion RegionOfFace(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
+                        int plane_index, const WorldBox& box, bool narrow) {
   FaceRegion region;
   region.plane = plane_index;
   const ConePlane& plane = set.Plane(plane_index);
@@ -347,27 +494,16 @@ FaceRegion ComputeFaceRegion(const std::vector<CameraModel>& cameras, const Cone
     region.success = true;  // the face lies outside some camera's cone
     return region;
   }
-  scratch.view_lines.assign(cameras.size(), LineRange{});
-  scratch.corner_inside.assign(cameras.size(), 1);
-  scratch.last_rejecting = -1;
-  region.lines.reserve(64);
-  for (size_t v = 0; v < cameras.size(); ++v) {
-    if (static_cast<int>(v) == plane.view) continue;
-    const int first = static_cast<int>(region.lines.size());
-    bool inside = false;
-    if (!AddViewLines(set, plane.view, static_cast<int>(v), region, inside, scratch.candidates)) {
-      region.reason = fmt::format("the hull's bounds are not in front of camera {}", cameras[v].id);
+  switch (BuildViewLines(cameras, set, plane.view, narrow, region, scratch)) {
+    case BuildOutcome::kBehindCamera:
+      region.reason = fmt::format("the hull's bounds are not in front of camera {}",
+                                  cameras[static_cast<size_t>(scratch.failed_view)].id);
       return region;
-    }
-    const int last = static_cast<int>(region.lines.size());
-    if (first == last && !inside) {
-      region.success = true;  // this face lies entirely outside camera v's cone
-      region.lines.clear();
-      region.events.clear();
+    case BuildOutcome::kEmpty:
+      region.success = true;  // the face lies outside some camera's cone
       return region;
-    }
-    scratch.corner_inside[v] = inside ? 1 : 0;
-    scratch.view_lines[v] = {first, last};
+    case BuildOutcome::kBuilt:
+      break;
   }
 
   // A contour vertex of another view changes the region only if it lies inside the rest.
@@ -396,7 +532,7 @@ FaceRegion ComputeFaceRegion(const std::vector<CameraModel>& cameras, const Cone
     }
     for (const auto& bound : bounds) {
       if (bound.second < 0) {
-        region.reason = "the hull reaches the bounds it was computed in";
+        region.reason = kReachesBounds;
         return region;
       }
     }
@@ -420,6 +556,19 @@ FaceRegion ComputeFaceRegion(const std::vector<CameraModel>& cameras, const Cone
   std::sort(region.events.begin(), region.events.end(),
             [](const ChartEvent& x, const ChartEvent& y) { return x.lambda < y.lambda; });
   region.success = true;
+  return region;
+}
+
+}  // namespace
+
+FaceRegion ComputeFaceRegion(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
+                             int plane_index, const WorldBox& box) {
+  FaceRegion region = RegionOfFace(cameras, set, plane_index, box, true);
+  // A region reaching its narrowed box is a sliver slab near the chart's side in which a
+  // contour vertex on the face's viewing ray left another view's silhouette open (its edge
+  // has no lambda-span); the full box keeps the side's lines.
+  if (!region.success && region.reason == kReachesBounds)
+    region = RegionOfFace(cameras, set, plane_index, box, false);
   return region;
 }
 
