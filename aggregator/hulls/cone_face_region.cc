@@ -52,53 +52,6 @@ Eigen::Matrix3d ChartToImage(const ConePlaneSet& set, int view, const FaceRegion
   return to_image;
 }
 
-// Clips the convex chart polygon `polygon` to the half-plane side . (lambda, w, 1) >= 0;
-// `scratch` is reused.
-void ClipConvex(std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector3d& side,
-                std::vector<Eigen::Vector2d>& scratch) {
-  scratch.clear();
-  const size_t n = polygon.size();
-  for (size_t k = 0; k < n; ++k) {
-    const Eigen::Vector2d& a = polygon[k];
-    const Eigen::Vector2d& b = polygon[(k + 1) % n];
-    const double ha = side.dot(a.homogeneous()), hb = side.dot(b.homogeneous());
-    if (ha >= 0) scratch.push_back(a);
-    if ((ha >= 0) != (hb >= 0)) scratch.push_back(a + (ha / (ha - hb)) * (b - a));
-  }
-  polygon.swap(scratch);
-}
-
-// Narrows the chart's w-range to the part of the wedge that projects inside every other view's
-// silhouette octagon (the region lies strictly inside it, the octagons having a margin).
-// Returns false if no part does: the face has no region.
-bool NarrowToSilhouetteBounds(const ConePlaneSet& set, int face_view, FaceRegion& region,
-                              std::vector<Eigen::Vector2d>& polygon,
-                              std::vector<Eigen::Vector2d>& scratch) {
-  polygon.assign({{0, region.w_min}, {1, region.w_min}, {1, region.w_max}, {0, region.w_max}});
-  for (size_t v = 0; v < set.Views() && polygon.size() >= 3; ++v) {
-    if (static_cast<int>(v) == face_view) continue;
-    const Eigen::Matrix3d to_image = ChartToImage(set, static_cast<int>(v), region);
-    // The image's scale (third row) must be positive over the chart for the half-planes to
-    // keep their sides; where it is not, AddViewLines reports the camera.
-    bool in_front = true;
-    for (const Eigen::Vector2d& corner : polygon)
-      in_front = in_front && to_image.row(2).dot(corner.homogeneous()) > 0;
-    if (!in_front) continue;
-    for (const Eigen::Vector3d& side : set.BoundingOctagon(static_cast<int>(v)))
-      ClipConvex(polygon, to_image.transpose() * side, scratch);
-  }
-  if (polygon.size() < 3) return false;
-  double low = std::numeric_limits<double>::infinity(), high = -low;
-  for (const Eigen::Vector2d& x : polygon) {
-    low = std::min(low, x.y());
-    high = std::max(high, x.y());
-  }
-  if (!(high > low)) return false;
-  region.w_min = std::max(region.w_min, low);
-  region.w_max = std::min(region.w_max, high);
-  return true;
-}
-
 // Builds the lines of one other view's contour edges that cross the chart box (the region's
 // current w-range) into `lines`, and the events they cause into `events`. Returns false if the
 // box is not entirely in front of that camera.
@@ -252,7 +205,6 @@ struct FaceScratch {
   std::vector<Bound> bounds, crossings, view_bounds, merged;
   std::vector<double> cuts;
   std::vector<LineRange> view_lines;
-  std::vector<Eigen::Vector2d> polygon, clipped;
   std::vector<char> corner_inside;
   int last_rejecting = -1;        // the view InsideOtherViews tries first
   std::vector<ViewBuild> builds;  // per view
@@ -490,10 +442,6 @@ FaceRegion RegionOfFace(const std::vector<CameraModel>& cameras, const ConePlane
   region.w_max = 1 / depth_min;
 
   thread_local FaceScratch scratch;
-  if (!NarrowToSilhouetteBounds(set, plane.view, region, scratch.polygon, scratch.clipped)) {
-    region.success = true;  // the face lies outside some camera's cone
-    return region;
-  }
   switch (BuildViewLines(cameras, set, plane.view, narrow, region, scratch)) {
     case BuildOutcome::kBehindCamera:
       region.reason = fmt::format("the hull's bounds are not in front of camera {}",
