@@ -52,6 +52,15 @@ Eigen::Matrix3d ChartToImage(const ConePlaneSet& set, int view, const FaceRegion
   return to_image;
 }
 
+// True if an undistorted pixel lies inside `view`'s silhouette; outside its bounding octagon
+// without the polygon test.
+bool InsideSilhouette(const ConePlaneSet& set, int view, const Eigen::Vector2d& pixel) {
+  for (const Eigen::Vector3d& side : set.BoundingOctagon(view)) {
+    if (side.dot(pixel.homogeneous()) < 0) return false;
+  }
+  return set.Contains(view, pixel);
+}
+
 // Builds the lines of one other view's contour edges that cross the chart box (the region's
 // current w-range) into `lines`, and the events they cause into `events`. Returns false if the
 // box is not entirely in front of that camera.
@@ -81,12 +90,7 @@ bool AddViewLines(const ConePlaneSet& set, int face_view, int view, const FaceRe
     if (line.dot(centre / centre.z()) < 0) line = -line;
     mapping.sides[s] = line;
   }
-  // Outside the silhouette's bounding octagon, the corner is outside the silhouette.
-  const Eigen::Vector2d corner = corners[0].hnormalized();
-  corner_inside = true;
-  for (const Eigen::Vector3d& side : set.BoundingOctagon(view))
-    corner_inside = corner_inside && side.dot(corner.homogeneous()) >= 0;
-  corner_inside = corner_inside && set.Contains(view, corner);
+  corner_inside = InsideSilhouette(set, view, corners[0].hnormalized());
 
   candidates.clear();
   set.CandidateEdges(face_view, view, region.d_p, region.d_q, candidates);
@@ -336,7 +340,39 @@ constexpr const char* kReachesBounds = "the hull reaches the bounds it was compu
 constexpr double kNarrowingMargin = 1e-3;
 // and at least this share of the box's w-range before narrowing.
 constexpr double kLeastNarrowingMargin = 1e-6;
-constexpr double kNarrowingWorth = 0.7;
+constexpr double kNarrowingWorth = 0.9;
+
+// Narrows one view's build to the chart box w in [w_min, w_max] inside the one it was built
+// for (`corner_inside`: whether the new box's corner (0, w_min) lies in the silhouette): lines
+// outside dropped, the others cut at the new bottom and top (their bottom crossings moved
+// there), contour-vertex events outside dropped. The same lines and events as building the view
+// again for the new box, without the candidate search.
+void NarrowViewBuild(double w_min, double w_max, bool corner_inside, ViewBuild& build) {
+  build.corner_inside = corner_inside;
+  std::erase_if(build.lines, [&](ChartLine& line) {
+    if (line.w_hi < w_min || line.w_lo > w_max) return true;
+    line.bottom_crossing = -1;
+    const bool rising = line.slope > 0;
+    if (line.w_lo < w_min) {
+      const double lambda =
+          std::clamp((w_min - line.intercept) / line.slope, line.lambda_lo, line.lambda_hi);
+      (rising ? line.lambda_lo : line.lambda_hi) = lambda;
+      line.w_lo = w_min;
+      line.bottom_crossing = lambda;
+    }
+    if (line.w_hi > w_max) {
+      const double lambda =
+          std::clamp((w_max - line.intercept) / line.slope, line.lambda_lo, line.lambda_hi);
+      (rising ? line.lambda_hi : line.lambda_lo) = lambda;
+      line.w_hi = w_max;
+    }
+    return false;
+  });
+  std::erase_if(build.events,
+                [&](const ChartEvent& event) { return event.w < w_min || event.w > w_max; });
+  build.w_min = w_min;
+  build.w_max = w_max;
+}
 
 // What BuildViewLines found.
 enum class BuildOutcome { kBuilt, kEmpty, kBehindCamera };
@@ -363,7 +399,7 @@ BuildOutcome BuildView(const ConePlaneSet& set, int face_view, int view, const F
 // contour-vertex events into region.events. The views are taken in the order that narrowed the
 // previous face most; each narrows the chart's w-range to its silhouette's, and the box is
 // shrunk to that range (the region lies inside it) so the following views' lines, crossings
-// and intervals are few; views built for a wider box are built again for the final one.
+// and intervals are few; views built for a wider box are narrowed to the final one.
 BuildOutcome BuildViewLines(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
                             int face_view, bool narrow, FaceRegion& region, FaceScratch& scratch) {
   const size_t views = cameras.size();
@@ -400,8 +436,12 @@ BuildOutcome BuildViewLines(const std::vector<CameraModel>& cameras, const ConeP
   for (int view : scratch.view_order) {
     const auto v = static_cast<size_t>(view);
     if (scratch.builds[v].w_min != region.w_min || scratch.builds[v].w_max != region.w_max) {
-      const BuildOutcome outcome = BuildView(set, face_view, view, region, scratch);
-      if (outcome != BuildOutcome::kBuilt) return outcome;
+      ViewBuild& build = scratch.builds[v];
+      const Eigen::Vector3d corner =
+          ChartToImage(set, view, region) * Eigen::Vector3d(0, region.w_min, 1);
+      NarrowViewBuild(region.w_min, region.w_max, InsideSilhouette(set, view, corner.hnormalized()),
+                      build);
+      if (build.lines.empty() && !build.corner_inside) return BuildOutcome::kEmpty;
     }
   }
   for (size_t v = 0; v < views; ++v) {
