@@ -9,6 +9,7 @@
 #include <random>
 
 #include "shared/dds/sample_conversions.h"
+#include "shared/io/replace_yaml.h"
 #include "shared/silhouette/frame_sample_check.h"
 #include "shared/util/check.h"
 #include "shared/util/realtime_clock.h"
@@ -452,41 +453,35 @@ void IngestService::Flush() {
 }
 
 void IngestService::WriteSummary(const std::filesystem::path& path) const {
-  // Written beside the file and renamed over it, so a reader never sees half of it.
-  const std::filesystem::path partial = path.string() + ".partial";
-  cv::FileStorage fs(partial.string(), cv::FileStorage::WRITE);
-  if (!fs.isOpened()) throw InputError("cannot write " + partial.string());
-  fs << "cameras"
-     << "[";
-  for (const CameraIngestStatus& c : Status()) {
-    fs << "{"
-       << "id" << c.camera_id << "session" << static_cast<int>(c.session) << "frames_held"
-       << static_cast<double>(c.frames_held) << "first_frame" << static_cast<double>(c.first_frame)
-       << "last_frame" << static_cast<double>(c.last_frame) << "missing"
-       << static_cast<double>(c.missing) << "received" << static_cast<double>(c.received)
-       << "contours" << static_cast<double>(c.contours) << "duplicates"
-       << static_cast<double>(c.duplicates) << "out_of_order" << static_cast<double>(c.out_of_order)
-       << "malformed" << static_cast<double>(c.malformed) << "resend_requests"
-       << static_cast<double>(c.resend_requests) << "resent_received"
-       << static_cast<double>(c.resent_received) << "store_failures"
-       << static_cast<double>(c.store_failures) << "stalls" << static_cast<double>(c.stalls)
-       << "latency_median_ms" << c.latency_median_ms << "latency_p99_ms" << c.latency_p99_ms
-       << "node_cpu_percent" << c.node_cpu_percent << "node_state" << c.node_state << "node_alive"
-       << static_cast<int>(c.node_alive) << "node_fps" << c.node_fps << "node_dropped"
-       << static_cast<double>(c.node_dropped) << "node_flagged"
-       << static_cast<double>(c.node_flagged) << "seconds_since_last_frame" << c.seconds_since_last
-       << "stalled" << static_cast<int>(c.stalled) << "}";
-  }
-  fs << "]";
-  const IngestTotals totals = Totals();
-  fs << "malformed_without_camera" << static_cast<double>(impl_->malformed_unknown);
-  fs << "contours_overdue" << static_cast<double>(totals.contours_overdue);
-  fs << "dds_samples_lost" << static_cast<double>(totals.dds_samples_lost);
-  fs << "dds_samples_rejected" << static_cast<double>(totals.dds_samples_rejected);
-  fs.release();
-  std::error_code error;
-  std::filesystem::rename(partial, path, error);
-  if (error) throw InputError(fmt::format("cannot write {}: {}", path.string(), error.message()));
+  ReplaceYaml(path, [&](cv::FileStorage& fs) {
+    fs << "cameras"
+       << "[";
+    for (const CameraIngestStatus& c : Status()) {
+      fs << "{"
+         << "id" << c.camera_id << "session" << static_cast<int>(c.session) << "frames_held"
+         << static_cast<double>(c.frames_held) << "first_frame"
+         << static_cast<double>(c.first_frame) << "last_frame" << static_cast<double>(c.last_frame)
+         << "missing" << static_cast<double>(c.missing) << "received"
+         << static_cast<double>(c.received) << "contours" << static_cast<double>(c.contours)
+         << "duplicates" << static_cast<double>(c.duplicates) << "out_of_order"
+         << static_cast<double>(c.out_of_order) << "malformed" << static_cast<double>(c.malformed)
+         << "resend_requests" << static_cast<double>(c.resend_requests) << "resent_received"
+         << static_cast<double>(c.resent_received) << "store_failures"
+         << static_cast<double>(c.store_failures) << "stalls" << static_cast<double>(c.stalls)
+         << "latency_median_ms" << c.latency_median_ms << "latency_p99_ms" << c.latency_p99_ms
+         << "node_cpu_percent" << c.node_cpu_percent << "node_state" << c.node_state << "node_alive"
+         << static_cast<int>(c.node_alive) << "node_fps" << c.node_fps << "node_dropped"
+         << static_cast<double>(c.node_dropped) << "node_flagged"
+         << static_cast<double>(c.node_flagged) << "seconds_since_last_frame"
+         << c.seconds_since_last << "stalled" << static_cast<int>(c.stalled) << "}";
+    }
+    fs << "]";
+    const IngestTotals totals = Totals();
+    fs << "malformed_without_camera" << static_cast<double>(impl_->malformed_unknown);
+    fs << "contours_overdue" << static_cast<double>(totals.contours_overdue);
+    fs << "dds_samples_lost" << static_cast<double>(totals.dds_samples_lost);
+    fs << "dds_samples_rejected" << static_cast<double>(totals.dds_samples_rejected);
+  });
 }
 
 }  // namespace silnet::aggregator

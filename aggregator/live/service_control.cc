@@ -12,6 +12,7 @@
 #include <functional>
 #include <opencv2/core.hpp>
 
+#include "shared/io/replace_yaml.h"
 #include "shared/util/check.h"
 
 namespace silnet::aggregator {
@@ -43,23 +44,6 @@ std::filesystem::path StillsRequestPath(const std::filesystem::path& output) {
 
 std::filesystem::path StillsAnswerPath(const std::filesystem::path& output) {
   return output / "stills_answer.yaml";
-}
-
-// Writes a YAML file beside `path` with `write` and renames it over `path`, so a reader never
-// sees half of it. Throws InputError if it cannot be written.
-void ReplaceYaml(const std::filesystem::path& path,
-                 const std::function<void(cv::FileStorage&)>& write) {
-  const std::filesystem::path partial = path.string() + ".partial";
-  try {
-    cv::FileStorage fs(partial.string(), cv::FileStorage::WRITE);
-    if (!fs.isOpened()) throw InputError("cannot write " + partial.string());
-    write(fs);
-  } catch (const cv::Exception& e) {
-    throw InputError(fmt::format("cannot write {}: {}", partial.string(), e.what()));
-  }
-  std::error_code error;
-  std::filesystem::rename(partial, path, error);
-  if (error) throw InputError(fmt::format("cannot write {}: {}", path.string(), error.message()));
 }
 
 std::string NodesText(const cv::FileStorage& ingest) {
