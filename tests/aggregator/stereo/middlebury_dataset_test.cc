@@ -21,12 +21,6 @@ namespace {
 
 const std::filesystem::path kData = SILNET_SHARED_DATA_DIR;
 
-// True if the silhouette has a pixel in the first or last row or column.
-bool TouchesBorder(const cv::Mat& mask) {
-  const cv::Rect box = cv::boundingRect(mask);
-  return box.x == 0 || box.y == 0 || box.br().x == mask.cols || box.br().y == mask.rows;
-}
-
 // How far the hull of a ring's silhouettes may disagree with them, per view (fractions of
 // the silhouette's pixels).
 struct Limits {
