@@ -8,6 +8,8 @@
 #include <limits>
 #include <utility>
 
+#include "aggregator/hulls/chart_narrowing.h"
+
 namespace silnet::aggregator {
 namespace {
 
@@ -144,58 +146,6 @@ bool AddViewLines(const ConePlaneSet& set, int face_view, int view, const FaceRe
 
 // An interval bound: w and the line there (-1 for the chart box).
 using Bound = std::pair<double, int>;
-
-// One other view's lines and vertex events, built for the chart box w in [w_min, w_max].
-struct ViewBuild {
-  std::vector<ChartLine> lines;
-  std::vector<ChartEvent> events;
-  bool corner_inside = false;
-  double w_min = 0, w_max = 0;
-};
-
-// True if the sweep sees a view's silhouette reach the top of the chart box on some lambda
-// interval: along w = w_max the inside flips at every line's end and bottom crossing (a line
-// left out as vertical flips it too, which the sweep, and so this, does not see). `toggles` is
-// scratch.
-bool ReachesTop(const ViewBuild& build, std::vector<double>& toggles) {
-  bool inside = build.corner_inside;  // at lambda = 0+
-  toggles.clear();
-  for (const ChartLine& line : build.lines) {
-    if (line.lambda_lo > 0) {
-      toggles.push_back(line.lambda_lo);
-    } else {
-      inside = !inside;
-    }
-    if (line.lambda_hi < 1) toggles.push_back(line.lambda_hi);
-    if (line.bottom_crossing > 0) {
-      toggles.push_back(line.bottom_crossing);
-    } else if (line.bottom_crossing == 0) {
-      inside = !inside;
-    }
-  }
-  std::sort(toggles.begin(), toggles.end());
-  double previous = 0;
-  for (double lambda : toggles) {
-    if (inside && lambda > previous) return true;
-    inside = !inside;
-    previous = lambda;
-  }
-  return inside && previous < 1;
-}
-
-// The w-range of a view's silhouette as the sweep sees it inside the chart box it was built
-// for: the box's side where the silhouette reaches it, otherwise the lowest or highest w of its
-// lines.
-std::pair<double, double> SilhouetteWRange(const ViewBuild& build, std::vector<double>& toggles) {
-  bool bottom = build.corner_inside;
-  double low = std::numeric_limits<double>::infinity(), high = -low;
-  for (const ChartLine& line : build.lines) {
-    low = std::min(low, line.w_lo);
-    high = std::max(high, line.w_hi);
-    bottom = bottom || line.bottom_crossing >= 0;
-  }
-  return {bottom ? build.w_min : low, ReachesTop(build, toggles) ? build.w_max : high};
-}
 
 // One view's lines: FaceRegion::lines[begin, end).
 struct LineRange {
@@ -341,38 +291,6 @@ constexpr double kNarrowingMargin = 1e-3;
 // and at least this share of the box's w-range before narrowing.
 constexpr double kLeastNarrowingMargin = 1e-6;
 constexpr double kNarrowingWorth = 0.9;
-
-// Narrows one view's build to the chart box w in [w_min, w_max] inside the one it was built
-// for (`corner_inside`: whether the new box's corner (0, w_min) lies in the silhouette): lines
-// outside dropped, the others cut at the new bottom and top (their bottom crossings moved
-// there), contour-vertex events outside dropped. The same lines and events as building the view
-// again for the new box, without the candidate search.
-void NarrowViewBuild(double w_min, double w_max, bool corner_inside, ViewBuild& build) {
-  build.corner_inside = corner_inside;
-  std::erase_if(build.lines, [&](ChartLine& line) {
-    if (line.w_hi < w_min || line.w_lo > w_max) return true;
-    line.bottom_crossing = -1;
-    const bool rising = line.slope > 0;
-    if (line.w_lo < w_min) {
-      const double lambda =
-          std::clamp((w_min - line.intercept) / line.slope, line.lambda_lo, line.lambda_hi);
-      (rising ? line.lambda_lo : line.lambda_hi) = lambda;
-      line.w_lo = w_min;
-      line.bottom_crossing = lambda;
-    }
-    if (line.w_hi > w_max) {
-      const double lambda =
-          std::clamp((w_max - line.intercept) / line.slope, line.lambda_lo, line.lambda_hi);
-      (rising ? line.lambda_hi : line.lambda_lo) = lambda;
-      line.w_hi = w_max;
-    }
-    return false;
-  });
-  std::erase_if(build.events,
-                [&](const ChartEvent& event) { return event.w < w_min || event.w > w_max; });
-  build.w_min = w_min;
-  build.w_max = w_max;
-}
 
 // What BuildViewLines found.
 enum class BuildOutcome { kBuilt, kEmpty, kBehindCamera };
