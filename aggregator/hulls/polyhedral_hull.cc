@@ -634,6 +634,18 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
       result.stats.gaps_filled = filling.filled;
       result.stats.gap_area = filling.area;
       result.stats.widest_gap = filling.widest;
+      Eigen::AlignedBox3f extent;
+      for (const Eigen::Vector3f& x : result.mesh.vertices)
+        extent.extend(x);
+      const double share = filling.widest / extent.diagonal().norm();
+      if (share > options.widest_gap_fraction) {
+        check.closed_manifold = false;
+        check.reason = fmt::format(
+            "neighbouring cone faces leave a gap {:.3g} of the hull's size wide (gaps up to {:.3g} "
+            "are filled)",
+            share, options.widest_gap_fraction);
+        return check;
+      }
       check = CheckClosedManifold(result.mesh);
     }
     return check;
@@ -662,7 +674,7 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     return result;
   }
   if (!check.closed_manifold) {
-    result.reason = "the polyhedral mesh is not a closed manifold: " + check.reason;
+    result.reason = fmt::format("the polyhedral mesh is not a closed manifold: {}", check.reason);
     return result;
   }
   result.success = true;

@@ -86,6 +86,11 @@ struct PolyhedralHullOptions {
   // the other views to bound it). Cameras with lens distortion are refused as before. 0: such
   // silhouettes are refused (the stereo job keeps those views apart itself).
   double border_extension = 0;
+  // Gaps that neighbouring faces leave are filled (PolyhedralHullStats::gaps_filled) up to
+  // this mean width, as a fraction of the hull's diagonal; a wider one means a face's region
+  // was lost, not a near-degenerate decision: the assembly falls back to the cuts, and the
+  // hull is refused if that leaves one too.
+  double widest_gap_fraction = 1e-3;
 };
 
 // True if any pixel of the outermost rows or columns of `mask` is silhouette: the subject
