@@ -12,6 +12,7 @@ bool ReachesTop(const ViewBuild& build, std::vector<double>& toggles) {
   bool inside = build.corner_inside;  // at lambda = 0+
   toggles.clear();
   for (const ChartLine& line : build.lines) {
+    if (line.w_hi >= build.w_max) return true;  // the inside flips where it crosses the top
     if (line.lambda_lo > 0) {
       toggles.push_back(line.lambda_lo);
     } else {

@@ -22,10 +22,12 @@ struct VerticalSide {
 };
 
 // The stretches of one lambda covered by `sides` (a contiguous run of the sorted sides, all of
-// one kind), zero-length sides left out and sides that meet at a vertex merged.
-std::vector<std::pair<Corner, Corner>> Stretches(std::vector<VerticalSide>::const_iterator begin,
-                                                 std::vector<VerticalSide>::const_iterator end) {
-  std::vector<std::pair<Corner, Corner>> stretches;
+// one kind), zero-length sides left out and sides that meet at a vertex merged, into
+// `stretches`.
+void Stretches(std::vector<VerticalSide>::const_iterator begin,
+               std::vector<VerticalSide>::const_iterator end,
+               std::vector<std::pair<Corner, Corner>>& stretches) {
+  stretches.clear();
   for (auto side = begin; side != end; ++side) {
     if (side->low.vertex == side->high.vertex) continue;
     if (!stretches.empty() && stretches.back().second.vertex == side->low.vertex) {
@@ -34,7 +36,6 @@ std::vector<std::pair<Corner, Corner>> Stretches(std::vector<VerticalSide>::cons
       stretches.emplace_back(side->low, side->high);
     }
   }
-  return stretches;
 }
 
 // Adds the boundary edges at one lambda: where the trapezoids before it (right sides,
@@ -94,12 +95,22 @@ void AddDifferenceEdges(double lambda, const std::vector<std::pair<Corner, Corne
   }
 }
 
-// Adds the boundary edges of the trapezoids' vertical sides (at lambda 0 and 1, and at the
-// slivers inside), the cuts they end at into `kept`.
-void AddVerticalEdges(const std::vector<Trapezoid>& trapezoids, std::vector<BoundaryEdge>& edges,
-                      std::vector<int>& kept) {
+// Buffers FaceBoundaryLoops reuses (one set per thread).
+struct LoopScratch {
+  std::vector<BoundaryEdge> edges;
+  std::vector<int> kept;
   std::vector<VerticalSide> sides;
-  sides.reserve(2 * trapezoids.size());
+  std::vector<std::pair<Corner, Corner>> before, after;
+  std::vector<std::pair<int, int>> by_from;
+  std::vector<char> used;
+  std::vector<LoopPoint> loop;
+};
+
+// Adds the boundary edges of the trapezoids' vertical sides (at lambda 0 and 1, and at the
+// slivers inside) to scratch.edges, the cuts they end at to scratch.kept.
+void AddVerticalEdges(const std::vector<Trapezoid>& trapezoids, LoopScratch& scratch) {
+  std::vector<VerticalSide>& sides = scratch.sides;
+  sides.clear();
   for (const Trapezoid& t : trapezoids) {
     sides.push_back({t.b, true, t.bottom_b, t.top_b});
     sides.push_back({t.a, false, t.bottom_a, t.top_a});
@@ -117,14 +128,16 @@ void AddVerticalEdges(const std::vector<Trapezoid>& trapezoids, std::vector<Boun
     auto end = split;
     while (end != sides.end() && end->lambda == lambda)
       ++end;
-    const auto before = Stretches(begin, split);
-    const auto after = Stretches(split, end);
+    std::vector<std::pair<Corner, Corner>>& before = scratch.before;
+    std::vector<std::pair<Corner, Corner>>& after = scratch.after;
+    Stretches(begin, split, before);
+    Stretches(split, end, after);
     const auto same = [](const auto& x, const auto& y) {
       return x.first.vertex == y.first.vertex && x.second.vertex == y.second.vertex;
     };
     if (before.size() != after.size() ||
         !std::equal(before.begin(), before.end(), after.begin(), same)) {
-      AddDifferenceEdges(lambda, before, after, edges, kept);
+      AddDifferenceEdges(lambda, before, after, scratch.edges, scratch.kept);
     }
     begin = end;
   }
@@ -169,8 +182,9 @@ void RemoveSpikes(std::vector<LoopPoint>& loop, double w_range) {
 bool FaceBoundaryLoops(const std::vector<Trapezoid>& trapezoids, double w_range,
                        std::vector<std::vector<LoopPoint>>& loops) {
   loops.clear();
-  std::vector<BoundaryEdge> edges;
-  edges.reserve(2 * trapezoids.size() + 8);
+  thread_local LoopScratch scratch;
+  std::vector<BoundaryEdge>& edges = scratch.edges;
+  edges.clear();
   for (const Trapezoid& t : trapezoids) {
     if (t.bottom_a.vertex != t.bottom_b.vertex)
       edges.push_back(
@@ -178,16 +192,19 @@ bool FaceBoundaryLoops(const std::vector<Trapezoid>& trapezoids, double w_range,
     if (t.top_a.vertex != t.top_b.vertex)
       edges.push_back({{t.b, t.top_b.w, t.top_b.vertex}, {t.a, t.top_a.w, t.top_a.vertex}});
   }
-  std::vector<int> kept;
-  AddVerticalEdges(trapezoids, edges, kept);
+  std::vector<int>& kept = scratch.kept;
+  kept.clear();
+  AddVerticalEdges(trapezoids, scratch);
   std::sort(kept.begin(), kept.end());
   // Edges by their first vertex.
-  std::vector<std::pair<int, int>> by_from(edges.size());
+  std::vector<std::pair<int, int>>& by_from = scratch.by_from;
+  by_from.resize(edges.size());
   for (size_t e = 0; e < edges.size(); ++e)
     by_from[e] = {edges[e].from.vertex, static_cast<int>(e)};
   std::sort(by_from.begin(), by_from.end());
-  std::vector<char> used(edges.size(), 0);
-  std::vector<LoopPoint> loop;
+  std::vector<char>& used = scratch.used;
+  used.assign(edges.size(), 0);
+  std::vector<LoopPoint>& loop = scratch.loop;
   for (size_t first = 0; first < edges.size(); ++first) {
     if (used[first]) continue;
     loop.clear();
@@ -202,11 +219,18 @@ bool FaceBoundaryLoops(const std::vector<Trapezoid>& trapezoids, double w_range,
       // most to the left keeps this loop apart from the other.
       int next = -1;
       double best = 0;
+      bool best_known = false;  // the turn matters only where another edge competes
       for (auto it = std::lower_bound(by_from.begin(), by_from.end(), std::pair(vertex, -1));
            it != by_from.end() && it->first == vertex; ++it) {
         if (used[static_cast<size_t>(it->second)]) continue;
+        if (next < 0) {
+          next = it->second;
+          continue;
+        }
+        if (!best_known) best = Turn(edges[e], edges[static_cast<size_t>(next)]);
+        best_known = true;
         const double turn = Turn(edges[e], edges[static_cast<size_t>(it->second)]);
-        if (next < 0 || turn > best) {
+        if (turn > best) {
           next = it->second;
           best = turn;
         }
