@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 #include <unordered_map>
 
+#include "aggregator/hulls/coincident_cameras.h"
 #include "aggregator/hulls/cone_face_region.h"
 #include "aggregator/hulls/face_boundary_loops.h"
 #include "aggregator/hulls/in_plane_gap_filler.h"
@@ -600,6 +601,20 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
       return result;
     }
   }
+  const CoincidentCameras coincident = FindCoincidentCameras(cameras);
+  for (size_t v = 0; v < cameras.size() && coincident.conflict.empty(); ++v) {
+    if (coincident.same_as[v] != static_cast<int>(v)) {
+      result.reason = fmt::format(
+          "cameras {} and {} repeat one viewpoint: the exact hull needs distinct viewpoints (the "
+          "masks overload intersects their silhouettes)",
+          cameras[static_cast<size_t>(coincident.same_as[v])].id, cameras[v].id);
+      return result;
+    }
+  }
+  if (!coincident.conflict.empty()) {
+    result.reason = coincident.conflict;
+    return result;
+  }
   if (const int v = FirstCameraTouchingBorder(cameras, contours); v >= 0) {
     result.reason = fmt::format("the silhouette of {} touches the image border",
                                 cameras[static_cast<size_t>(v)].id);
@@ -702,21 +717,44 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     result.reason = MaskShapeProblem(cameras[v], masks[v]);
     if (!result.reason.empty()) return result;
   }
+  // A camera that repeats another's viewpoint adds its silhouette to that camera's (the
+  // intersection of the two) instead of a second, coincident cone.
+  const CoincidentCameras coincident = FindCoincidentCameras(cameras);
+  if (!coincident.conflict.empty()) {
+    result.reason = coincident.conflict;
+    return result;
+  }
+  std::vector<CameraModel> hull_cameras;
+  std::vector<cv::Mat> hull_masks;
+  std::vector<size_t> slot(cameras.size());
+  for (size_t v = 0; v < cameras.size(); ++v) {
+    const auto first = static_cast<size_t>(coincident.same_as[v]);
+    if (first == v) {
+      slot[v] = hull_cameras.size();
+      hull_cameras.push_back(cameras[v]);
+      hull_masks.push_back(masks[v]);
+    } else {
+      cv::Mat both;
+      cv::bitwise_and(hull_masks[slot[first]], masks[v], both);
+      hull_masks[slot[first]] = both;
+    }
+  }
+  const size_t merged_cameras = cameras.size() - hull_cameras.size();
   // Silhouettes the image border cuts, extended beyond it where asked.
-  std::vector<CameraModel> hull_cameras = cameras;
-  std::vector<cv::Mat> hull_masks = masks;
-  std::vector<int> margins(masks.size(), 0);
-  for (size_t v = 0; v < masks.size(); ++v) {
-    if (!(options.border_extension > 0) || cameras[v].HasDistortion() || !TouchesBorder(masks[v])) {
+  const size_t views = hull_cameras.size();
+  std::vector<int> margins(views, 0);
+  for (size_t v = 0; v < views; ++v) {
+    if (!(options.border_extension > 0) || hull_cameras[v].HasDistortion() ||
+        !TouchesBorder(hull_masks[v])) {
       continue;
     }
     margins[v] = static_cast<int>(
-        std::ceil(options.border_extension * std::max(masks[v].cols, masks[v].rows)));
+        std::ceil(options.border_extension * std::max(hull_masks[v].cols, hull_masks[v].rows)));
     ExtendBeyondBorder(margins[v], hull_cameras[v], hull_masks[v]);
   }
-  std::vector<SilhouetteContours> contours(masks.size());
-  std::vector<cv::Rect> rects(masks.size());
-  ParallelFor(masks.size(), options.threads, [&](size_t v) {
+  std::vector<SilhouetteContours> contours(views);
+  std::vector<cv::Rect> rects(views);
+  ParallelFor(views, options.threads, [&](size_t v) {
     contours[v] = ExtractContours(hull_masks[v], contour_options);
     rects[v] = PixelRect(contours[v], hull_masks[v].size());
   });
@@ -730,19 +768,20 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
   box.min() -= pad;
   box.max() += pad;
   result = ComputePolyhedralHull(hull_cameras, contours, box, options);
+  result.stats.merged_cameras = merged_cameras;
   if (result.success) {
     if (const int v = LeavesExtension(hull_cameras, margins, result.mesh); v >= 0) {
       result = PolyhedralHullResult{};
       result.reason = fmt::format(
           "the silhouette of {} touches the image border and the hull reaches far beyond it",
-          cameras[static_cast<size_t>(v)].id);
+          hull_cameras[static_cast<size_t>(v)].id);
     }
   } else {
     std::string extended;
-    for (size_t v = 0; v < cameras.size(); ++v) {
+    for (size_t v = 0; v < views; ++v) {
       if (margins[v] == 0) continue;
       if (!extended.empty()) extended += ", ";
-      extended += cameras[v].id;
+      extended += hull_cameras[v].id;
     }
     if (!extended.empty()) {
       result.reason =

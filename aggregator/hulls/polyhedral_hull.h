@@ -45,6 +45,9 @@ struct PolyhedralHullStats {
   size_t gaps_filled = 0;
   double gap_area = 0;
   double widest_gap = 0;
+  // Cameras that repeated another's viewpoint (coincident_cameras.h), their silhouettes
+  // intersected into that camera's.
+  size_t merged_cameras = 0;
 };
 
 // The hull, or why there is none.

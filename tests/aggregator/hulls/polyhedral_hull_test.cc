@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -13,6 +14,7 @@
 #include "aggregator/hulls/mesh_check.h"
 #include "aggregator/hulls/mesh_measure.h"
 #include "aggregator/hulls/voxel_hull.h"
+#include "shared/silhouette/silhouette_contour.h"
 #include "tests/aggregator/hulls/hull_comparison.h"
 #include "tests/aggregator/hulls/sphere_scene.h"
 
@@ -156,6 +158,50 @@ TEST(PolyhedralHullTest, SymmetricRingIsClosed) {
   } else {
     EXPECT_FALSE(cut.reason.empty());
   }
+}
+
+TEST(PolyhedralHullTest, RepeatedViewpointIntersectsItsSilhouettes) {
+  // A rig that photographs from one viewpoint twice (the Middlebury temple ring's first and
+  // eleventh views): the repeat's silhouette, here a smaller one, is intersected into the first
+  // camera's, the same hull as that camera alone with the intersection.
+  const SphereScene scene = MakeSphereScene(0.0, true);
+  cv::Mat smaller;
+  cv::erode(scene.masks[2], smaller, cv::Mat(), cv::Point(-1, -1), 3);
+  std::vector<CameraModel> cameras = scene.cameras;
+  std::vector<cv::Mat> masks = scene.masks;
+  cameras.push_back(scene.cameras[2]);
+  cameras.back().id = "ring2-again";
+  masks.push_back(smaller);
+  const PolyhedralHullResult repeated = ComputePolyhedralHull(cameras, masks);
+  ASSERT_TRUE(repeated.success) << repeated.reason;
+  EXPECT_EQ(repeated.stats.merged_cameras, 1u);
+  std::vector<cv::Mat> expected_masks = scene.masks;
+  expected_masks[2] = smaller;
+  const PolyhedralHullResult expected = ComputePolyhedralHull(scene.cameras, expected_masks);
+  ASSERT_TRUE(expected.success) << expected.reason;
+  EXPECT_EQ(repeated.mesh.triangles.size(), expected.mesh.triangles.size());
+  EXPECT_NEAR(MeshVolume(repeated.mesh), MeshVolume(expected.mesh), 1e-9);
+
+  // From contours the repeat cannot be merged: refused, both named.
+  std::vector<SilhouetteContours> contours;
+  for (const cv::Mat& mask : masks)
+    contours.push_back(ExtractContours(mask, ContourOptions{}));
+  WorldBox bounds(Eigen::Vector3d::Constant(-2), Eigen::Vector3d::Constant(2));
+  const PolyhedralHullResult from_contours = ComputePolyhedralHull(cameras, contours, bounds);
+  EXPECT_FALSE(from_contours.success);
+  EXPECT_NE(from_contours.reason.find("ring2-again"), std::string::npos) << from_contours.reason;
+
+  // A camera at another's centre looking elsewhere is refused too.
+  CameraModel turned = scene.cameras[2];
+  const Eigen::Vector3d centre = turned.Center();
+  turned.R = Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitY()).toRotationMatrix() * turned.R;
+  turned.t = -turned.R * centre;
+  turned.id = "ring2-turned";
+  cameras.back() = turned;
+  masks.back() = SphereMask(turned);
+  const PolyhedralHullResult shared_centre = ComputePolyhedralHull(cameras, masks);
+  EXPECT_FALSE(shared_centre.success);
+  EXPECT_NE(shared_centre.reason.find("one centre"), std::string::npos) << shared_centre.reason;
 }
 
 TEST(PolyhedralHullTest, ReportsEmptyAndCutOffSilhouettes) {
