@@ -330,7 +330,8 @@ BuildOutcome BuildViewLines(const std::vector<CameraModel>& cameras, const ConeP
   std::stable_sort(scratch.view_order.begin(), scratch.view_order.end(), [&](int a, int b) {
     return scratch.narrowing[static_cast<size_t>(a)] < scratch.narrowing[static_cast<size_t>(b)];
   });
-  double low = region.w_min, high = region.w_max;
+  const double full_min = region.w_min, full_max = region.w_max;
+  double low = full_min, high = full_max;
   const double least_margin = kLeastNarrowingMargin * (high - low);
   for (int view : scratch.view_order) {
     const BuildOutcome outcome = BuildView(set, face_view, view, region, scratch);
@@ -346,6 +347,13 @@ BuildOutcome BuildViewLines(const std::vector<CameraModel>& cameras, const ConeP
       region.w_min = std::max(region.w_min, low - margin);
       region.w_max = std::min(region.w_max, high + margin);
     }
+  }
+  // The final box from the final bounds alone (they do not depend on the order the views were
+  // built in), so the region does not depend on which faces a thread computed before.
+  if (region.w_min != full_min || region.w_max != full_max) {
+    const double margin = kNarrowingMargin * (high - low) + least_margin;
+    region.w_min = std::max(full_min, low - margin);
+    region.w_max = std::min(full_max, high + margin);
   }
   scratch.view_lines.assign(views, LineRange{});
   scratch.corner_inside.assign(views, 1);
