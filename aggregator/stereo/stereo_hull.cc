@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "aggregator/hulls/boundary_mesh.h"
+#include "aggregator/hulls/coincident_cameras.h"
 #include "aggregator/hulls/viewing_cone_bounds.h"
 #include "aggregator/hulls/voxel_hull.h"
 #include "aggregator/stereo/lattice_ray.h"
@@ -102,6 +103,18 @@ PolyhedralHullResult ComputeStereoHull(const CutSilhouettes& views, int threads,
   PolyhedralHullOptions exact_options;
   exact_options.threads = threads;
   PolyhedralHullResult exact = ComputePolyhedralHull(views.cameras, views.masks, exact_options);
+  if (exact.stats.merged_cameras > 0) {
+    const CoincidentCameras coincident = FindCoincidentCameras(views.cameras);
+    for (size_t v = 0; v < views.cameras.size(); ++v) {
+      const auto first = static_cast<size_t>(coincident.same_as[v]);
+      if (first == v) continue;
+      warnings->push_back(
+          fmt::format("visual hull: {} was taken from the viewpoint of {}; their silhouettes are "
+                      "intersected into one cone",
+                      views.cameras[v].id, views.cameras[first].id));
+      spdlog::warn("{}", warnings->back());
+    }
+  }
   if (exact.success) return exact;
   VoxelHullOptions carve;
   carve.voxel_size = FootprintAtConesCentre(views);

@@ -30,10 +30,11 @@ struct BorderCarving {
 BorderCarving CarveByBorderViews(const CutSilhouettes& border, const CutSilhouettes& bounded,
                                  double margin_px, VoxelGrid* grid);
 
-// The exact polyhedral hull of `views`, or, when it cannot be closed (symmetric rings such
-// as the Middlebury temple's; issue 20), the voxel hull carved at one pixel footprint (the
-// mean at the centre of the viewing cones' box) on `threads` threads (0 = all), with a
-// warning appended to `warnings` and logged. Failure is data, as ComputePolyhedralHull's.
+// The exact polyhedral hull of `views`, or, when it cannot be closed, the voxel hull carved at
+// one pixel footprint (the mean at the centre of the viewing cones' box) on `threads` threads
+// (0 = all), with a warning appended to `warnings` and logged. Views taken from another's
+// viewpoint (the Middlebury temple ring repeats its first) are named in a warning too, their
+// silhouettes intersected into one cone. Failure is data, as ComputePolyhedralHull's.
 PolyhedralHullResult ComputeStereoHull(const CutSilhouettes& views, int threads,
                                        std::vector<std::string>* warnings);
 

@@ -13,6 +13,7 @@
 
 #include "aggregator/hulls/hull_reprojection.h"
 #include "aggregator/hulls/polyhedral_hull.h"
+#include "aggregator/stereo/stereo_hull.h"
 #include "aggregator/stereo/stills_folder.h"
 #include "tests/support/temp_dir.h"
 
@@ -120,7 +121,20 @@ TEST(MiddleburyDatasetTest, TempleSilhouettesAgreeWithTheCameras) {
   limits.missed_far = 0.008;
   limits.extra = 0.005;
   limits.extra_unused = 0.005;
-  ExpectHullAgreesWithSilhouettes(LoadMiddlebury(folder), "temple", limits);
+  const StereoViews views = LoadMiddlebury(folder);
+  ExpectHullAgreesWithSilhouettes(views, "temple", limits);
+  // The stereo job's hull names the repeated viewpoint.
+  CutSilhouettes silhouettes;
+  silhouettes.cameras = views.Cameras();
+  silhouettes.masks = views.Masks();
+  std::vector<std::string> warnings;
+  const PolyhedralHullResult hull = ComputeStereoHull(silhouettes, 0, &warnings);
+  EXPECT_TRUE(hull.success) << hull.reason;
+  EXPECT_EQ(hull.stats.merged_cameras, 1u);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("templeSR0011 was taken from the viewpoint of templeSR0001"),
+            std::string::npos)
+      << warnings[0];
 }
 
 // A hole in the silhouette brighter than the backdrop around the subject is a shadow pocket
