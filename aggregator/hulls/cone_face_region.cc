@@ -283,8 +283,6 @@ void AddCrossingEvents(FaceRegion& region, FaceScratch& scratch) {
   }
 }
 
-constexpr const char* kReachesBounds = "the hull reaches the bounds it was computed in";
-
 // The chart box is narrowed to the region's w-range found so far (with this share of it as a
 // margin on each side) when that is at most kNarrowingWorth of the box.
 constexpr double kNarrowingMargin = 1e-3;
@@ -383,7 +381,8 @@ BuildOutcome BuildViewLines(const std::vector<CameraModel>& cameras, const ConeP
   return BuildOutcome::kBuilt;
 }
 
-// The face's region, in the chart box narrowed to it as the views are built if `narrow`.
+// The face's region, in the chart box narrowed to it as the views are built if `narrow` (and
+// computed again in the full box if it reaches the narrowed one).
 FaceRegion RegionOfFace(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
                         int plane_index, const WorldBox& box, bool narrow) {
   FaceRegion region;
@@ -445,10 +444,13 @@ FaceRegion RegionOfFace(const std::vector<CameraModel>& cameras, const ConePlane
       bounds.swap(scratch.merged);
     }
     for (const auto& bound : bounds) {
-      if (bound.second < 0) {
-        region.reason = kReachesBounds;
-        return region;
-      }
+      if (bound.second >= 0) continue;
+      // Reaching a narrowed box is a sliver slab near the chart's side in which a contour
+      // vertex on the face's viewing ray left another view's silhouette open (its edge has no
+      // lambda-span); the full box keeps the side's lines.
+      if (narrow) return RegionOfFace(cameras, set, plane_index, box, false);
+      region.reason = "the hull reaches the bounds it was computed in";
+      return region;
     }
     const auto same_intervals = [&bounds](const ChartSlab& slab) {
       if (2 * slab.intervals.size() != bounds.size()) return false;
@@ -477,13 +479,7 @@ FaceRegion RegionOfFace(const std::vector<CameraModel>& cameras, const ConePlane
 
 FaceRegion ComputeFaceRegion(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
                              int plane_index, const WorldBox& box) {
-  FaceRegion region = RegionOfFace(cameras, set, plane_index, box, true);
-  // A region reaching its narrowed box is a sliver slab near the chart's side in which a
-  // contour vertex on the face's viewing ray left another view's silhouette open (its edge
-  // has no lambda-span); the full box keeps the side's lines.
-  if (!region.success && region.reason == kReachesBounds)
-    region = RegionOfFace(cameras, set, plane_index, box, false);
-  return region;
+  return RegionOfFace(cameras, set, plane_index, box, true);
 }
 
 }  // namespace silnet::aggregator

@@ -602,17 +602,16 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     }
   }
   const CoincidentCameras coincident = FindCoincidentCameras(cameras);
-  for (size_t v = 0; v < cameras.size() && coincident.conflict.empty(); ++v) {
-    if (coincident.same_as[v] != static_cast<int>(v)) {
-      result.reason = fmt::format(
-          "cameras {} and {} repeat one viewpoint: the exact hull needs distinct viewpoints (the "
-          "masks overload intersects their silhouettes)",
-          cameras[static_cast<size_t>(coincident.same_as[v])].id, cameras[v].id);
-      return result;
-    }
-  }
   if (!coincident.conflict.empty()) {
     result.reason = coincident.conflict;
+    return result;
+  }
+  for (size_t v = 0; v < cameras.size(); ++v) {
+    if (coincident.same_as[v] == static_cast<int>(v)) continue;
+    result.reason = fmt::format(
+        "cameras {} and {} repeat one viewpoint: the exact hull needs distinct viewpoints (the "
+        "masks overload intersects their silhouettes)",
+        cameras[static_cast<size_t>(coincident.same_as[v])].id, cameras[v].id);
     return result;
   }
   if (const int v = FirstCameraTouchingBorder(cameras, contours); v >= 0) {
