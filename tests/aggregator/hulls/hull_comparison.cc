@@ -1,8 +1,11 @@
 #include "tests/aggregator/hulls/hull_comparison.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 
 #include "aggregator/hulls/mesh_measure.h"
+#include "aggregator/hulls/polyhedral_hull.h"
 
 namespace silnet::aggregator::hull_testing {
 
@@ -30,6 +33,21 @@ HullDifference CompareWithCarvedHull(const TriangleMesh& mesh, const VoxelGrid& 
     }
   }
   return difference;
+}
+
+void ExpectSameHullOnThreads(const std::vector<CameraModel>& cameras,
+                             const std::vector<cv::Mat>& masks, int threads) {
+  PolyhedralHullOptions one, several;
+  one.threads = 1;
+  several.threads = threads;
+  const PolyhedralHullResult a = ComputePolyhedralHull(cameras, masks, one);
+  const PolyhedralHullResult b = ComputePolyhedralHull(cameras, masks, several);
+  ASSERT_TRUE(a.success) << a.reason;
+  ASSERT_TRUE(b.success) << b.reason;
+  EXPECT_EQ(a.mesh.vertices, b.mesh.vertices);
+  EXPECT_EQ(a.mesh.triangles, b.mesh.triangles);
+  EXPECT_EQ(a.stats.triple_points, b.stats.triple_points);
+  EXPECT_EQ(a.stats.gaps_filled, b.stats.gaps_filled);
 }
 
 }  // namespace silnet::aggregator::hull_testing

@@ -89,15 +89,7 @@ TEST(PolyhedralHullTest, FacesAsPolygonsAreTheSameSolidWithoutExtraPoints) {
 // Cone faces and contours computed on several threads give exactly the mesh of one thread.
 TEST(PolyhedralHullTest, ThreadsGiveTheSameMesh) {
   const SphereScene scene = MakeSphereScene(0.0, true);
-  const PolyhedralHullResult one = ComputePolyhedralHull(scene.cameras, scene.masks);
-  PolyhedralHullOptions options;
-  options.threads = 3;
-  const PolyhedralHullResult three = ComputePolyhedralHull(scene.cameras, scene.masks, options);
-  ASSERT_TRUE(one.success) << one.reason;
-  ASSERT_TRUE(three.success) << three.reason;
-  EXPECT_EQ(one.mesh.vertices, three.mesh.vertices);
-  EXPECT_EQ(one.mesh.triangles, three.mesh.triangles);
-  EXPECT_EQ(one.stats.triple_points, three.stats.triple_points);
+  ExpectSameHullOnThreads(scene.cameras, scene.masks, 3);
 }
 
 TEST(PolyhedralHullTest, AgreesWithTheVoxelHullWithinOneVoxel) {

@@ -31,6 +31,7 @@
 #include "shared/silhouette/silhouette_contour.h"
 #include "shared/util/check.h"
 #include "sim/dataset_generator.h"
+#include "tests/aggregator/hulls/hull_comparison.h"
 #include "tests/support/temp_dir.h"
 
 namespace silnet::aggregator {
@@ -175,16 +176,7 @@ TEST(RealDataHullTest, ThreadsGiveTheSameMeshOnWd2) {
   const std::filesystem::path folder = kData / "tsinghua-wd2-20cam";
   if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
   const RealCapture capture = LoadTsinghuaWd2(folder, false);
-  PolyhedralHullOptions one, two;
-  one.threads = 1;
-  two.threads = 2;
-  const PolyhedralHullResult a = ComputePolyhedralHull(capture.cameras, capture.masks, one);
-  const PolyhedralHullResult b = ComputePolyhedralHull(capture.cameras, capture.masks, two);
-  ASSERT_TRUE(a.success) << a.reason;
-  ASSERT_TRUE(b.success) << b.reason;
-  EXPECT_EQ(a.mesh.triangles, b.mesh.triangles);
-  EXPECT_EQ(a.mesh.vertices, b.mesh.vertices);
-  EXPECT_EQ(a.stats.gaps_filled, b.stats.gaps_filled);
+  hull_testing::ExpectSameHullOnThreads(capture.cameras, capture.masks, 2);
 }
 
 // A gap wider than the options allow is a face lost, not a sliver: the hull is refused and
