@@ -8,6 +8,7 @@
 // keeps them so.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
 #include <vector>

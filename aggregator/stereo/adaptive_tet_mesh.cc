@@ -1,0 +1,127 @@
+#include "aggregator/stereo/adaptive_tet_mesh.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "shared/util/check.h"
+
+namespace silnet::aggregator {
+namespace {
+
+// The four faces of a tetrahedron, each as three corner positions.
+constexpr int kFaces[4][3] = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
+
+}  // namespace
+
+bool AdaptiveTetMeshOptions::IsValid(std::string* reason) const {
+  const auto fail = [&](const char* why) {
+    if (reason) *reason = why;
+    return false;
+  };
+  if (!(base_spacing_footprints > 0)) return fail("base_spacing_footprints must be positive");
+  if (!(finest_spacing_footprints > 0 && finest_spacing_footprints <= base_spacing_footprints))
+    return fail("finest_spacing_footprints must be positive and at most the base spacing");
+  if (!(min_score > -1 && min_score < 1)) return fail("min_score must be in (-1, 1)");
+  if (!(crossing_fraction > 0 && crossing_fraction <= 1))
+    return fail("crossing_fraction must be in (0, 1]");
+  if (crossing_samples < 1) return fail("crossing_samples must be at least 1");
+  if (!(sample_spacing_footprints > 0)) return fail("sample_spacing_footprints must be positive");
+  if (!(prefilter_margin >= 0)) return fail("prefilter_margin must not be negative");
+  return patch.IsValid(reason);
+}
+
+AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const WorldBox& box,
+                                     double footprint, const AdaptiveTetMeshOptions& options) {
+  std::string reason;
+  SILNET_CHECK_MSG(options.IsValid(&reason), reason);
+  SILNET_CHECK(footprint > 0);
+  const double base = options.base_spacing_footprints * footprint;
+  const int levels = std::max(
+      0,
+      static_cast<int>(std::ceil(
+          std::log2(options.base_spacing_footprints / options.finest_spacing_footprints) - 1e-9)));
+  AdaptiveTetMesh result{RedGreenMesh(BuildBccLattice(box, base)), {}, {}};
+  RedGreenMesh& mesh = result.mesh;
+
+  const PatchScorer scorer(views, options.patch);
+  CrossingFaceOptions crossing_options;
+  crossing_options.sample_spacing = options.sample_spacing_footprints * footprint;
+  crossing_options.patch_step = footprint;
+  crossing_options.min_score = options.min_score;
+  crossing_options.prefilter_margin = options.prefilter_margin;
+  crossing_options.crossing_fraction = options.crossing_fraction;
+  crossing_options.crossing_samples = options.crossing_samples;
+  crossing_options.threads = options.threads;
+  CrossingFaces crossing(scorer, crossing_options);
+
+  std::vector<std::array<int32_t, 3>> ids;
+  std::vector<TriangleCorners> corners;
+  for (int level = 0; level <= levels; ++level) {
+    const auto start = std::chrono::steady_clock::now();
+    AdaptiveLevelStats stats;
+    stats.level = level;
+    stats.spacing = std::ldexp(base, -level);
+    std::vector<int32_t> cells;
+    for (int32_t leaf : mesh.Leaves())
+      if (mesh.Level(leaf) == level) cells.push_back(leaf);
+    stats.cells = cells.size();
+    if (level == levels) {  // the finest cells are not refined: nothing to decide
+      stats.seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      result.levels.push_back(stats);
+      break;
+    }
+
+    ids.clear();
+    corners.clear();
+    for (int32_t cell : cells) {
+      const Tetrahedron& v = mesh.Vertices(cell);
+      for (const auto& f : kFaces) {
+        ids.push_back({v[f[0]], v[f[1]], v[f[2]]});
+        corners.push_back(
+            {mesh.Vertices()[v[f[0]]], mesh.Vertices()[v[f[1]]], mesh.Vertices()[v[f[2]]]});
+      }
+    }
+    const size_t sampled_before = crossing.SampledFaces();
+    const size_t scored_before = crossing.SamplesScored();
+    crossing.Sample(ids, corners, &result.points);
+    stats.faces_sampled = crossing.SampledFaces() - sampled_before;
+    stats.samples_scored = crossing.SamplesScored() - scored_before;
+
+    std::vector<int32_t> active;
+    for (size_t c = 0; c < cells.size(); ++c) {
+      bool crossed = false;
+      for (int f = 0; f < 4 && !crossed; ++f) {
+        const auto& face = ids[4 * c + static_cast<size_t>(f)];
+        crossed = crossing.Crossing(crossing.Counts(SortedFace(face[0], face[1], face[2])));
+      }
+      if (crossed) active.push_back(cells[c]);
+    }
+    stats.active_cells = active.size();
+    {
+      stats.refined_cells = mesh.Refine(active);
+      // Faces of this level's refined cells hand their samples down to their halves.
+      for (int32_t cell : cells) {
+        if (mesh.IsLeaf(cell)) continue;
+        const Tetrahedron& v = mesh.Vertices(cell);
+        for (const auto& f : kFaces) {
+          const int32_t a = v[f[0]], b = v[f[1]], c = v[f[2]];
+          if (!crossing.Known(SortedFace(a, b, c))) continue;
+          crossing.Inherit(a, b, c, mesh.Midpoint(a, b), mesh.Midpoint(b, c), mesh.Midpoint(c, a));
+        }
+      }
+    }
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    spdlog::info(
+        "adaptive mesh level {} ({:.2f} mm): {} cells, {} faces sampled ({} samples), {} active, "
+        "{} refined, {:.2f} s",
+        level, stats.spacing * 1e3, stats.cells, stats.faces_sampled, stats.samples_scored,
+        stats.active_cells, stats.refined_cells, stats.seconds);
+    result.levels.push_back(stats);
+  }
+  return result;
+}
+
+}  // namespace silnet::aggregator

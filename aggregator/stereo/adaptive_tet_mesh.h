@@ -1,0 +1,63 @@
+#pragma once
+// The photo-consistency driven tetrahedral mesh of the adaptive stereo (thesis 7.3.1-7.3.2):
+// a BCC lattice over the visual hull's box, refined level by level where the surface may be.
+// At each level the faces of the cells the last refinement made are tested for crossing
+// (crossing_faces.h); a cell with a crossing face is active and red-refined, the rest of the
+// mesh closed green around it (red_green_mesh.h), until the cells reach the finest spacing.
+// Cells with no crossing face are never refined and never sampled inside, which is where the
+// memory and time of a uniform lattice go.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "aggregator/hulls/voxel_grid.h"
+#include "aggregator/stereo/crossing_faces.h"
+#include "aggregator/stereo/patch_photo_consistency.h"
+#include "aggregator/stereo/red_green_mesh.h"
+#include "aggregator/stereo/stereo_views.h"
+
+namespace silnet::aggregator {
+
+// Settings of the adaptive mesh.
+struct AdaptiveTetMeshOptions {
+  double base_spacing_footprints = 16.0;   // the base lattice's cube side, pixel footprints
+  double finest_spacing_footprints = 2.0;  // refine until the cube side is at most this (the
+                                           // cells' edges then project to 1.7-2 px)
+  double sample_spacing_footprints = 1.5;  // of the faces' sample lattices
+  double min_score = 0.7;                  // T: photo-consistent samples score at least this
+  double prefilter_margin = 0.15;          // see CrossingFaceOptions
+  double crossing_fraction = 0.2;          // crossing faces: this share of the samples ...
+  int crossing_samples = 20;               // ... or this many are photo-consistent
+  PatchOptions patch;                      // the patches of the crossing test
+  int threads = 0;                         // 0 = every core
+
+  // True if the options make sense; otherwise false with a reason.
+  bool IsValid(std::string* reason) const;
+};
+
+// What one level of the refinement did.
+struct AdaptiveLevelStats {
+  int level = 0;
+  double spacing = 0.0;       // cube side of the level's red cells, metres
+  size_t cells = 0;           // red cells of this level tested
+  size_t faces_sampled = 0;   // faces sampled afresh (the rest inherited)
+  size_t samples_scored = 0;  // lattice samples inside the silhouettes, scored
+  size_t active_cells = 0;    // of the tested cells, with a crossing face
+  size_t refined_cells = 0;   // red-refined, the closure's included
+  double seconds = 0.0;
+};
+
+// The refined mesh and what sampling it found.
+struct AdaptiveTetMesh {
+  RedGreenMesh mesh;
+  std::vector<OrientedPoint> points;  // the quasi-dense cloud: each sampled face's best point
+  std::vector<AdaptiveLevelStats> levels;
+};
+
+// Builds the mesh over `box` (world metres) for views whose pixel footprint at the object is
+// `footprint` metres. Options must be valid and footprint > 0 (CheckError otherwise).
+AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const WorldBox& box,
+                                     double footprint, const AdaptiveTetMeshOptions& options);
+
+}  // namespace silnet::aggregator

@@ -1,0 +1,188 @@
+#include "aggregator/stereo/crossing_faces.h"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+
+#include "shared/util/check.h"
+#include "shared/util/parallel_for.h"
+
+namespace silnet::aggregator {
+
+std::array<int32_t, 3> SortedFace(int32_t a, int32_t b, int32_t c) {
+  std::array<int32_t, 3> f{a, b, c};
+  std::sort(f.begin(), f.end());
+  return f;
+}
+
+CrossingFaces::CrossingFaces(const PatchScorer& scorer, const CrossingFaceOptions& options)
+    : scorer_(scorer), options_(options) {
+  SILNET_CHECK(options.sample_spacing > 0 && options.patch_step > 0);
+  SILNET_CHECK(options.crossing_fraction > 0 && options.crossing_fraction <= 1);
+}
+
+uint64_t CrossingFaces::Hash(const std::array<int32_t, 3>& ids) {
+  uint64_t h = static_cast<uint32_t>(ids[0]);
+  h = h * 0x9E3779B97F4A7C15ull ^ static_cast<uint32_t>(ids[1]);
+  h = h * 0x9E3779B97F4A7C15ull ^ static_cast<uint32_t>(ids[2]);
+  return h;
+}
+
+const CrossingFaces::Part* CrossingFaces::Find(const std::array<int32_t, 3>& sorted_ids) const {
+  const auto it = parts_.find(Hash(sorted_ids));
+  if (it == parts_.end()) return nullptr;
+  for (const Part& part : it->second)
+    if (SortedFace(part.ids[0], part.ids[1], part.ids[2]) == sorted_ids) return &part;
+  return nullptr;
+}
+
+bool CrossingFaces::Known(const std::array<int32_t, 3>& ids) const {
+  return Find(ids) != nullptr;
+}
+
+FaceSamples CrossingFaces::Counts(const std::array<int32_t, 3>& ids) const {
+  const Part* part = Find(ids);
+  SILNET_CHECK_MSG(part != nullptr, "face not sampled");
+  return part->counts;
+}
+
+bool CrossingFaces::Crossing(const FaceSamples& counts) const {
+  return counts.consistent > 0 && (counts.consistent >= options_.crossing_samples ||
+                                   counts.consistent >= options_.crossing_fraction * counts.total);
+}
+
+FaceSamples CrossingFaces::CountPart(const Lattice& lattice,
+                                     const std::array<std::array<int, 2>, 3>& c) {
+  // Lattice points inside or on the triangle c (integer coordinates, exact).
+  const int min_i = std::min({c[0][0], c[1][0], c[2][0]});
+  const int max_i = std::max({c[0][0], c[1][0], c[2][0]});
+  const int min_j = std::min({c[0][1], c[1][1], c[2][1]});
+  const int max_j = std::max({c[0][1], c[1][1], c[2][1]});
+  const auto edge = [](const std::array<int, 2>& a, const std::array<int, 2>& b, int i, int j) {
+    return static_cast<int64_t>(b[0] - a[0]) * (j - a[1]) -
+           static_cast<int64_t>(b[1] - a[1]) * (i - a[0]);
+  };
+  const int64_t orientation = edge(c[0], c[1], c[2][0], c[2][1]) > 0 ? 1 : -1;
+  FaceSamples counts;
+  const int n = lattice.n;
+  for (int j = min_j; j <= max_j; ++j) {
+    for (int i = min_i; i <= max_i; ++i) {
+      if (orientation * edge(c[0], c[1], i, j) < 0 || orientation * edge(c[1], c[2], i, j) < 0 ||
+          orientation * edge(c[2], c[0], i, j) < 0)
+        continue;
+      // Row j of the lattice starts after the rows below it: sum over r < j of (n + 1 - r).
+      const int index = j * (n + 1) - j * (j - 1) / 2 + i;
+      ++counts.total;
+      counts.consistent += lattice.consistent[static_cast<size_t>(index)];
+    }
+  }
+  return counts;
+}
+
+void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
+                           const std::vector<TriangleCorners>& corners,
+                           std::vector<OrientedPoint>* points) {
+  SILNET_CHECK(ids.size() == corners.size());
+  // The faces not known yet, each once however often `ids` lists it.
+  std::vector<std::pair<std::array<int32_t, 3>, size_t>> unknown;
+  for (size_t f = 0; f < ids.size(); ++f) {
+    const auto sorted = SortedFace(ids[f][0], ids[f][1], ids[f][2]);
+    if (!Find(sorted)) unknown.emplace_back(sorted, f);
+  }
+  std::sort(unknown.begin(), unknown.end());
+  std::vector<size_t> fresh;
+  for (size_t k = 0; k < unknown.size(); ++k)
+    if (k == 0 || unknown[k].first != unknown[k - 1].first) fresh.push_back(unknown[k].second);
+
+  std::vector<Part> results(fresh.size());
+  std::vector<OrientedPoint> best(fresh.size());
+  std::vector<size_t> scored(fresh.size(), 0);
+  ParallelFor(fresh.size(), options_.threads, [&](size_t k) {
+    const size_t f = fresh[k];
+    const TriangleCorners& c = corners[f];
+    const double longest =
+        std::max({(c[1] - c[0]).norm(), (c[2] - c[1]).norm(), (c[0] - c[2]).norm()});
+    int n = 1;
+    while (longest / n > options_.sample_spacing && n < (1 << 12))
+      n *= 2;
+    auto lattice = std::make_shared<Lattice>();
+    lattice->n = n;
+    lattice->consistent.assign(static_cast<size_t>((n + 1) * (n + 2) / 2), 0);
+    OrientedPoint& top = best[k];
+    top.score = -2.0f;
+    size_t index = 0;
+    for (int j = 0; j <= n; ++j) {
+      for (int i = 0; i + j <= n; ++i, ++index) {
+        const Eigen::Vector3d x =
+            c[0] + (double(i) / n) * (c[1] - c[0]) + (double(j) / n) * (c[2] - c[0]);
+        if (!scorer_.InsideSilhouettes(x)) continue;
+        int orientation = 0;
+        const PatchScore score = scorer_.BestPlane(
+            x, options_.patch_step, options_.min_score - options_.prefilter_margin, &orientation);
+        ++scored[k];
+        if (score.score < options_.min_score) continue;
+        lattice->consistent[index] = 1;
+        if (score.score > top.score) {
+          top.point = x;
+          top.normal = CanonicalOrientations()[static_cast<size_t>(orientation)];
+          top.score = score.score;
+          top.view_mask = score.view_mask;
+        }
+      }
+    }
+    Part& part = results[k];
+    part.lattice = std::move(lattice);
+    part.corner = {{{0, 0}, {n, 0}, {0, n}}};
+    part.ids = ids[f];
+    part.counts = CountPart(*part.lattice, part.corner);
+  });
+  for (size_t k = 0; k < fresh.size(); ++k) {
+    samples_scored_ += scored[k];
+    if (best[k].score >= options_.min_score) points->push_back(best[k]);
+    const auto sorted = SortedFace(results[k].ids[0], results[k].ids[1], results[k].ids[2]);
+    parts_[Hash(sorted)].push_back(std::move(results[k]));
+  }
+  sampled_faces_ += fresh.size();
+}
+
+void CrossingFaces::Inherit(int32_t a, int32_t b, int32_t c, int32_t ab, int32_t bc, int32_t ca) {
+  const Part* parent = Find(SortedFace(a, b, c));
+  SILNET_CHECK_MSG(parent != nullptr, "face not sampled");
+  // The parent's lattice coordinates of a, b, c.
+  std::array<int, 2> pa{}, pb{}, pc{};
+  for (int k = 0; k < 3; ++k) {
+    if (parent->ids[k] == a) pa = parent->corner[k];
+    if (parent->ids[k] == b) pb = parent->corner[k];
+    if (parent->ids[k] == c) pc = parent->corner[k];
+  }
+  const auto mid = [](const std::array<int, 2>& p, const std::array<int, 2>& q) {
+    return std::array<int, 2>{(p[0] + q[0]) / 2, (p[1] + q[1]) / 2};
+  };
+  // The parts need a lattice point at every corner: the parent's edges of even length.
+  const auto even = [](const std::array<int, 2>& p, const std::array<int, 2>& q) {
+    return (p[0] + q[0]) % 2 == 0 && (p[1] + q[1]) % 2 == 0;
+  };
+  if (!even(pa, pb) || !even(pb, pc) || !even(pc, pa)) return;
+  if (pa == pb) return;
+  const std::array<int, 2> pab = mid(pa, pb), pbc = mid(pb, pc), pca = mid(pc, pa);
+  const std::array<std::pair<std::array<int32_t, 3>, std::array<std::array<int, 2>, 3>>, 4> parts =
+      {{
+          {{a, ab, ca}, {pa, pab, pca}},
+          {{ab, b, bc}, {pab, pb, pbc}},
+          {{ca, bc, c}, {pca, pbc, pc}},
+          {{ab, bc, ca}, {pab, pbc, pca}},
+      }};
+  const std::shared_ptr<const Lattice> lattice = parent->lattice;
+  for (const auto& [ids, corner] : parts) {
+    const auto sorted = SortedFace(ids[0], ids[1], ids[2]);
+    if (Find(sorted)) continue;
+    Part part;
+    part.lattice = lattice;
+    part.corner = corner;
+    part.ids = ids;
+    part.counts = CountPart(*lattice, corner);
+    parts_[Hash(sorted)].push_back(std::move(part));
+  }
+}
+
+}  // namespace silnet::aggregator

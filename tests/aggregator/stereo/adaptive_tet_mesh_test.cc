@@ -1,0 +1,189 @@
+// The adaptive stereo's photo-consistency (thesis 7.3.2): patches on a textured plane seen by
+// a few cameras score high on the plane and low off it; the photo-consistency driven mesh of
+// simulated stills refines down to nearly all of the true surface and stays near it.
+
+#include "aggregator/stereo/adaptive_tet_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "aggregator/hulls/polyhedral_hull.h"
+#include "aggregator/stereo/nearest_point.h"
+#include "aggregator/stereo/stills_folder.h"
+#include "shared/io/point_cloud_ply.h"
+#include "sim/stills_generator.h"
+#include "tests/support/temp_dir.h"
+
+namespace silnet::aggregator {
+namespace {
+
+// A pattern on the plane z = 0 (grey levels 0..255), wavelengths of 7-12 pixels in the views.
+double Texture(double x, double y) {
+  return 128 + 50 * std::sin(190 * x + 30 * y) + 40 * std::sin(170 * y - 90 * x + 1.0) +
+         30 * std::sin(230 * x + 200 * y + 2.0);
+}
+
+// Six cameras on a circle of radius 1 m at height 1 m looking at the origin, each rendering
+// the textured plane z = 0 (the whole image inside the silhouette).
+std::vector<StereoView> PlaneViews() {
+  std::vector<StereoView> views;
+  for (int c = 0; c < 6; ++c) {
+    const double angle = 2 * std::numbers::pi * c / 6;
+    const Eigen::Vector3d centre(std::cos(angle), std::sin(angle), 1.0);
+    StereoView view;
+    view.camera.id = "cam" + std::to_string(c);
+    view.camera.width = 320;
+    view.camera.height = 240;
+    view.camera.K << 400, 0, 159.5, 0, 400, 119.5, 0, 0, 1;
+    view.camera.R = LookAtRotation(centre, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ());
+    view.camera.t = -view.camera.R * centre;
+    view.image = cv::Mat(240, 320, CV_8UC3);
+    view.mask = cv::Mat(240, 320, CV_8UC1, cv::Scalar(255));
+    for (int y = 0; y < 240; ++y) {
+      for (int x = 0; x < 320; ++x) {
+        const Eigen::Vector3d ray =
+            view.camera.R.transpose() * view.camera.PixelRay(Eigen::Vector2d(x, y));
+        const double s = -centre.z() / ray.z();
+        const Eigen::Vector3d p = centre + s * ray;
+        const auto g = static_cast<uint8_t>(std::clamp(Texture(p.x(), p.y()), 0.0, 255.0));
+        view.image.at<cv::Vec3b>(y, x) = cv::Vec3b(g, g, g);
+      }
+    }
+    views.push_back(std::move(view));
+  }
+  return views;
+}
+
+TEST(PatchPhotoConsistencyTest, PatchesScoreHighOnATexturedPlaneAndLowOffIt) {
+  const std::vector<StereoView> views = PlaneViews();
+  const PatchScorer scorer(views, {});
+  // The footprint at the origin: 1.41 m away at f = 400 px.
+  const double footprint = std::sqrt(2.0) / 400;
+  int on = 0, off = 0;
+  const int points = 40;
+  for (int k = 0; k < points; ++k) {
+    const Eigen::Vector3d x(0.05 * std::cos(k * 0.7), 0.05 * std::sin(k * 1.3), 0.0);
+    const PatchScore at = scorer.BestPlane(x, footprint);
+    EXPECT_GE(at.views, 3);
+    if (at.score >= 0.9) ++on;
+    const PatchScore above = scorer.BestPlane(x + Eigen::Vector3d(0, 0, 4 * footprint), footprint);
+    if (above.score < 0.9) ++off;
+  }
+  std::printf(
+      "[ patches ] on the plane %d of %d score >= 0.9; 4 footprints above, "
+      "%d of %d score < 0.9\n",
+      on, points, off, points);
+  EXPECT_GE(on, points * 9 / 10);
+  EXPECT_GE(off, points * 9 / 10);
+  // The prefilter changes no score that passes it.
+  const Eigen::Vector3d x(0.01, -0.02, 0.0);
+  EXPECT_FLOAT_EQ(scorer.BestPlane(x, footprint, 0.75).score, scorer.BestPlane(x, footprint).score);
+}
+
+TEST(PatchPhotoConsistencyTest, OptionsAreValidated) {
+  std::string reason;
+  PatchOptions options;
+  EXPECT_TRUE(options.IsValid(&reason));
+  options.mu = 6;
+  EXPECT_FALSE(options.IsValid(&reason));
+  EXPECT_NE(reason.find("odd"), std::string::npos);
+  AdaptiveTetMeshOptions mesh;
+  EXPECT_TRUE(mesh.IsValid(&reason));
+  mesh.finest_spacing_footprints = 2 * mesh.base_spacing_footprints;
+  EXPECT_FALSE(mesh.IsValid(&reason));
+}
+
+// Simulated stills of the statue (a ring of 16 cameras, 480x360), with the true surface.
+struct Stills {
+  StereoViews views;
+  std::vector<Eigen::Vector3d> truth;
+  double footprint = 0.0;
+  WorldBox box;
+};
+
+Stills MakeStills() {
+  silnet::testing::TempDir dir("silnet-adaptive");
+  sim::StillsOptions options;
+  options.network.cameras = 16;
+  options.network.width = 480;
+  options.network.height = 360;
+  options.seed = 3;
+  options.overwrite = true;
+  const sim::StillsSummary summary = sim::GenerateStills(options, dir.path(), nullptr);
+  Stills out;
+  out.footprint = summary.footprint;
+  out.views = LoadStillsFolder(dir.path(), dir.path() / "calibration.yaml");
+  for (const Eigen::Vector3f& p : ReadPointCloudPly(dir.path() / "gt_surface.ply").points)
+    out.truth.push_back(p.cast<double>());
+  const PolyhedralHullResult hull = ComputePolyhedralHull(out.views.Cameras(), out.views.Masks());
+  EXPECT_TRUE(hull.success) << hull.reason;
+  for (const Eigen::Vector3f& v : hull.mesh.vertices)
+    out.box.extend(v.cast<double>());
+  return out;
+}
+
+TEST(AdaptiveTetMeshTest, RefinesDownToTheTrueSurfaceOfSimulatedStills) {
+  const Stills stills = MakeStills();
+  AdaptiveTetMeshOptions options;
+  options.finest_spacing_footprints = 2.0;  // cells with edges of 1.7-2 px
+  const AdaptiveTetMesh adaptive =
+      BuildAdaptiveTetMesh(stills.views.views, stills.box, stills.footprint, options);
+  const RedGreenMesh& mesh = adaptive.mesh;
+  ASSERT_EQ(adaptive.levels.size(), 4u);
+  const int finest = adaptive.levels.back().level;
+  const double spacing = adaptive.levels.back().spacing;
+
+  // The quasi-dense points lie on the surface.
+  std::vector<Eigen::Vector3d> points;
+  for (const OrientedPoint& p : adaptive.points)
+    points.push_back(p.point);
+  const NearestPoint truth(stills.truth);
+  std::vector<double> error = truth.Distances(points);
+  std::sort(error.begin(), error.end());
+  ASSERT_GT(points.size(), 1000u);
+  const double median = error[error.size() / 2] / stills.footprint;
+  const double p90 = error[error.size() * 9 / 10] / stills.footprint;
+
+  // Every part of the true surface lies in cells of the finest level: the nearest finest
+  // cell's centroid is within one cube side.
+  std::vector<Eigen::Vector3d> centroids;
+  for (int32_t leaf : mesh.Leaves()) {
+    if (mesh.Level(leaf) != finest) continue;
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int32_t v : mesh.Vertices(leaf))
+      c += mesh.Vertices()[v] / 4;
+    centroids.push_back(c);
+  }
+  const NearestPoint fine(centroids);
+  size_t covered = 0;
+  for (double d : fine.Distances(stills.truth))
+    covered += d <= spacing ? 1 : 0;
+  const double coverage = static_cast<double>(covered) / static_cast<double>(stills.truth.size());
+
+  // And the finest cells stay near it.
+  std::vector<double> cell_error = truth.Distances(centroids);
+  std::sort(cell_error.begin(), cell_error.end());
+  const double cell_p90 = cell_error[cell_error.size() * 9 / 10] / stills.footprint;
+
+  const size_t cells = mesh.Conform().mesh.tetrahedra.size();
+  const size_t uniform = BuildBccLattice(stills.box, spacing).tetrahedra.size();
+  std::printf(
+      "[ adaptive mesh ] %zu points: median %.2f fp, 90 %% within %.2f fp; truth in finest cells "
+      "%.4f; finest cells within %.2f fp (90 %%); %zu cells, uniform lattice at the finest "
+      "spacing %zu\n",
+      points.size(), median, p90, coverage, cell_p90, cells, uniform);
+  // Measured (2026-11-26): median 1.08 fp, 90 % within 5.2 fp; 94.8 % of the truth in finest
+  // cells (what is missed faces away from all but one or two views); cells 90 % within 6.1 fp;
+  // 10 times fewer cells than the uniform lattice.
+  EXPECT_LE(median, 1.25);
+  EXPECT_LE(p90, 6.0);
+  EXPECT_GE(coverage, 0.93);
+  EXPECT_LE(cell_p90, 7.0);
+  EXPECT_LE(cells * 8, uniform);
+}
+
+}  // namespace
+}  // namespace silnet::aggregator
