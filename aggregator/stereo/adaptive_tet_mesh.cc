@@ -95,7 +95,9 @@ AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const
       bool crossed = false;
       for (int f = 0; f < 4 && !crossed; ++f) {
         const auto& face = ids[4 * c + static_cast<size_t>(f)];
-        crossed = crossing.Crossing(crossing.Counts(SortedFace(face[0], face[1], face[2])));
+        const FaceSamples counts = crossing.Counts(SortedFace(face[0], face[1], face[2]));
+        crossed =
+            crossing.Crossing(counts) || (options.refine_hull_surface && counts.OnHullSurface());
       }
       if (crossed) active.push_back(cells[c]);
     }

@@ -2,8 +2,9 @@
 // The photo-consistency driven tetrahedral mesh of the adaptive stereo (thesis 7.3.1-7.3.2):
 // a BCC lattice over the visual hull's box, refined level by level where the surface may be.
 // At each level the faces of the cells the last refinement made are tested for crossing
-// (crossing_faces.h); a cell with a crossing face is active and red-refined, the rest of the
-// mesh closed green around it (red_green_mesh.h), until the cells reach the finest spacing.
+// (crossing_faces.h); a cell with a crossing face (or, beyond the thesis, one the visual
+// hull's surface passes through) is active and red-refined, the rest of the mesh closed
+// green around it (red_green_mesh.h), until the cells reach the finest spacing.
 // Cells with no crossing face are never refined and never sampled inside, which is where the
 // memory and time of a uniform lattice go.
 
@@ -29,8 +30,12 @@ struct AdaptiveTetMeshOptions {
   double prefilter_margin = 0.15;          // see CrossingFaceOptions
   double crossing_fraction = 0.2;          // crossing faces: this share of the samples ...
   int crossing_samples = 20;               // ... or this many are photo-consistent
-  PatchOptions patch;                      // the patches of the crossing test
-  int threads = 0;                         // 0 = every core
+  // Refine cells the visual hull's surface passes through as well (some of a face's samples
+  // inside every silhouette, some not), so thin parts that are hard to match (the statue's
+  // staff) get fine cells and their silhouettes can be met.
+  bool refine_hull_surface = true;
+  PatchOptions patch;  // the patches of the crossing test
+  int threads = 0;     // 0 = every core
 
   // True if the options make sense; otherwise false with a reason.
   bool IsValid(std::string* reason) const;

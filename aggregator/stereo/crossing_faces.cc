@@ -72,8 +72,10 @@ FaceSamples CrossingFaces::CountPart(const Lattice& lattice,
         continue;
       // Row j of the lattice starts after the rows below it: sum over r < j of (n + 1 - r).
       const int index = j * (n + 1) - j * (j - 1) / 2 + i;
+      const uint8_t flags = lattice.flags[static_cast<size_t>(index)];
       ++counts.total;
-      counts.consistent += lattice.consistent[static_cast<size_t>(index)];
+      counts.inside += (flags & Lattice::kInside) ? 1 : 0;
+      counts.consistent += (flags & Lattice::kConsistent) ? 1 : 0;
     }
   }
   return counts;
@@ -107,7 +109,7 @@ void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
       n *= 2;
     auto lattice = std::make_shared<Lattice>();
     lattice->n = n;
-    lattice->consistent.assign(static_cast<size_t>((n + 1) * (n + 2) / 2), 0);
+    lattice->flags.assign(static_cast<size_t>((n + 1) * (n + 2) / 2), 0);
     OrientedPoint& top = best[k];
     top.score = -2.0f;
     size_t index = 0;
@@ -116,12 +118,13 @@ void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
         const Eigen::Vector3d x =
             c[0] + (double(i) / n) * (c[1] - c[0]) + (double(j) / n) * (c[2] - c[0]);
         if (!scorer_.InsideSilhouettes(x)) continue;
+        lattice->flags[index] = Lattice::kInside;
         int orientation = 0;
         const PatchScore score = scorer_.BestPlane(
             x, options_.patch_step, options_.min_score - options_.prefilter_margin, &orientation);
         ++scored[k];
         if (score.score < options_.min_score) continue;
-        lattice->consistent[index] = 1;
+        lattice->flags[index] |= Lattice::kConsistent;
         if (score.score > top.score) {
           top.point = x;
           top.normal = CanonicalOrientations()[static_cast<size_t>(orientation)];

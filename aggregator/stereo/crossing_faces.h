@@ -47,6 +47,9 @@ struct OrientedPoint {
 struct FaceSamples {
   int total = 0;
   int consistent = 0;
+  int inside = 0;  // inside every silhouette (the visual hull)
+  // True if the visual hull's surface passes through the face: some samples inside, some not.
+  bool OnHullSurface() const { return inside > 0 && inside < total; }
 };
 
 // A triangle given by its corners' positions.
@@ -79,11 +82,12 @@ class CrossingFaces {
   size_t SamplesScored() const { return samples_scored_; }
 
  private:
-  // One sampled face's lattice: (n + 1)(n + 2) / 2 flags, point (i, j) at corner0 + i/n
-  // (corner1 - corner0) + j/n (corner2 - corner0).
+  // One sampled face's lattice: (n + 1)(n + 2) / 2 flags (kInside, kConsistent), point
+  // (i, j) at corner0 + i/n (corner1 - corner0) + j/n (corner2 - corner0).
   struct Lattice {
+    static constexpr uint8_t kInside = 1, kConsistent = 2;
     int n = 0;
-    std::vector<uint8_t> consistent;
+    std::vector<uint8_t> flags;
   };
   // A known face: its part of a lattice, given by its corners' lattice coordinates (i, j),
   // corner k belonging to the vertex id in the same place of `ids`.

@@ -1,0 +1,173 @@
+#include "aggregator/stereo/tet_graph_cut.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "aggregator/stereo/max_flow.h"
+#include "shared/util/check.h"
+#include "shared/util/parallel_for.h"
+
+namespace silnet::aggregator {
+namespace {
+
+// A face of a cell: its sorted vertex ids, the cell, and the corner opposite it.
+struct CellFace {
+  std::array<int32_t, 3> ids;
+  int32_t cell;
+  int8_t opposite;
+  bool operator<(const CellFace& o) const { return ids < o.ids || (ids == o.ids && cell < o.cell); }
+};
+
+// The face of `cell` opposite corner `opposite`, oriented away from the cell.
+std::array<int32_t, 3> OutwardFace(const TetMesh& mesh, int32_t cell, int opposite) {
+  const Tetrahedron& t = mesh.tetrahedra[static_cast<size_t>(cell)];
+  std::array<int32_t, 3> f{};
+  int k = 0;
+  for (int c = 0; c < 4; ++c)
+    if (c != opposite) f[k++] = t[c];
+  const Eigen::Vector3d& a = mesh.vertices[f[0]];
+  const Eigen::Vector3d normal = (mesh.vertices[f[1]] - a).cross(mesh.vertices[f[2]] - a);
+  if (normal.dot(mesh.vertices[t[opposite]] - a) > 0) std::swap(f[1], f[2]);
+  return f;
+}
+
+}  // namespace
+
+struct TetGraphCut::Graph {
+  MaxFlowGraph flow{0, 0};
+  std::vector<CellFace> faces;  // sorted
+};
+
+TetGraphCut::~TetGraphCut() = default;
+
+double TetGraphCut::flow() const {
+  return graph_->flow.flow();
+}
+
+TetGraphCut::TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labels,
+                         const PatchScorer& scorer, double footprint,
+                         const TetGraphCutOptions& options)
+    : mesh_(mesh), graph_(std::make_unique<Graph>()) {
+  SILNET_CHECK(labels.size() == mesh.tetrahedra.size());
+  SILNET_CHECK(footprint > 0 && options.sigma > 0 && options.lambda >= 0);
+  const size_t cells = mesh.tetrahedra.size();
+  std::vector<CellFace>& faces = graph_->faces;
+  faces.reserve(4 * cells);
+  for (size_t t = 0; t < cells; ++t) {
+    for (int o = 0; o < 4; ++o) {
+      CellFace f{{}, static_cast<int32_t>(t), static_cast<int8_t>(o)};
+      int k = 0;
+      for (int c = 0; c < 4; ++c)
+        if (c != o) f.ids[k++] = mesh.tetrahedra[t][c];
+      std::sort(f.ids.begin(), f.ids.end());
+      faces.push_back(f);
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  // Shared faces: consecutive entries with equal ids.
+  std::vector<size_t> shared;
+  for (size_t k = 0; k + 1 < faces.size(); ++k)
+    if (faces[k].ids == faces[k + 1].ids) shared.push_back(k);
+
+  // Face costs, scored where the cut may pass.
+  const double max_edge = options.max_scored_face_footprints * footprint;
+  std::vector<double> capacity(shared.size(), 0.0);
+  std::vector<uint8_t> scored(shared.size(), 0);
+  ParallelFor(shared.size(), options.threads, [&](size_t s) {
+    const CellFace& f = faces[shared[s]];
+    const CellLabel la = labels[static_cast<size_t>(f.cell)];
+    const CellLabel lb = labels[static_cast<size_t>(faces[shared[s] + 1].cell)];
+    const Eigen::Vector3d& a = mesh.vertices[f.ids[0]];
+    const Eigen::Vector3d& b = mesh.vertices[f.ids[1]];
+    const Eigen::Vector3d& c = mesh.vertices[f.ids[2]];
+    const Eigen::Vector3d cross = (b - a).cross(c - a);
+    const double area = 0.5 * cross.norm();
+    double w = 0.0;
+    const bool free_side = la == CellLabel::kFree || lb == CellLabel::kFree;
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    if (free_side && longest <= max_edge) {
+      const Eigen::Vector3d n = cross.normalized();
+      const Eigen::Vector3d u = (b - a).normalized();
+      const Eigen::Vector3d v = n.cross(u);
+      const Eigen::Vector3d centre = (a + b + c) / 3;
+      const float up = scorer.Plane(centre, n, u, v, footprint).score;
+      const float down = scorer.Plane(centre, -n, u, v, footprint).score;
+      w = std::clamp(static_cast<double>(std::max(up, down)), 0.0, 1.0);
+      scored[s] = 1;
+    }
+    const double t = std::tan(std::numbers::pi / 2 * (w - 1));
+    const double photo = w <= 0 ? 1.0 : 1 - std::exp(-t * t / (options.sigma * options.sigma));
+    capacity[s] = (photo + options.lambda) * area;
+  });
+
+  MaxFlowGraph& graph = graph_->flow;
+  graph = MaxFlowGraph(static_cast<int64_t>(cells), static_cast<int64_t>(shared.size()));
+  graph.AddNodes(static_cast<int>(cells));
+  double total = 1.0;
+  for (double c : capacity)
+    total += c;
+  for (size_t t = 0; t < cells; ++t) {
+    if (labels[t] == CellLabel::kInterior)
+      graph.AddTerminalCapacities(static_cast<int>(t), total, 0);
+    if (labels[t] == CellLabel::kExterior)
+      graph.AddTerminalCapacities(static_cast<int>(t), 0, total);
+  }
+  for (size_t s = 0; s < shared.size(); ++s) {
+    const int a = faces[shared[s]].cell, b = faces[shared[s] + 1].cell;
+    graph.AddEdge(a, b, capacity[s], capacity[s]);
+    faces_scored_ += scored[s];
+  }
+  graph.Solve();
+  links_ = shared.size();
+  interior_.resize(cells);
+  for (size_t t = 0; t < cells; ++t)
+    interior_[t] = graph.IsSourceSide(static_cast<int>(t)) ? 1 : 0;
+}
+
+size_t TetGraphCut::ForceInterior(const std::vector<int32_t>& cells) {
+  size_t added = 0;
+  for (int32_t c : cells) {
+    if (interior_[static_cast<size_t>(c)]) continue;
+    graph_->flow.ForceSourceSide(c);
+    ++added;
+  }
+  if (added == 0) return 0;
+  graph_->flow.Resolve();
+  for (size_t t = 0; t < interior_.size(); ++t)
+    interior_[t] = graph_->flow.IsSourceSide(static_cast<int>(t)) ? 1 : 0;
+  return added;
+}
+
+TriangleMesh TetGraphCut::Surface() const {
+  const TetMesh& mesh = mesh_;
+  const std::vector<CellFace>& faces = graph_->faces;
+  TriangleMesh surface;
+  std::vector<int32_t> remap(mesh.vertices.size(), -1);
+  const auto add_face = [&](int32_t cell, int opposite) {
+    const std::array<int32_t, 3> f = OutwardFace(mesh, cell, opposite);
+    std::array<int32_t, 3> triangle{};
+    for (int k = 0; k < 3; ++k) {
+      int32_t& id = remap[static_cast<size_t>(f[k])];
+      if (id < 0) {
+        id = static_cast<int32_t>(surface.vertices.size());
+        surface.vertices.push_back(mesh.vertices[f[k]].cast<float>());
+      }
+      triangle[k] = id;
+    }
+    surface.triangles.push_back(triangle);
+  };
+  for (size_t k = 0; k < faces.size(); ++k) {
+    const bool paired_next = k + 1 < faces.size() && faces[k].ids == faces[k + 1].ids;
+    const bool paired_prev = k > 0 && faces[k].ids == faces[k - 1].ids;
+    const int32_t cell = faces[k].cell;
+    if (!interior_[static_cast<size_t>(cell)]) continue;
+    if (paired_next && interior_[static_cast<size_t>(faces[k + 1].cell)]) continue;
+    if (paired_prev && interior_[static_cast<size_t>(faces[k - 1].cell)]) continue;
+    add_face(cell, faces[k].opposite);
+  }
+  return surface;
+}
+
+}  // namespace silnet::aggregator

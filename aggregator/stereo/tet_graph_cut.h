@@ -1,0 +1,64 @@
+#pragma once
+// The graph cut of the adaptive stereo (thesis 7.4.1): a minimum s-t cut on the dual graph of
+// the conforming tetrahedral mesh, one node per cell, one n-link per face shared by two cells;
+// interior cells tied to the source, exterior ones to the sink (tet_cell_labels.h). A face's
+// capacity is its cost as a piece of surface (eq. 7.2):
+//   phi(f) = (1 - exp(-tan(pi/2 (w_f - 1))^2 / sigma^2)) a_f + lambda a_f,
+// a_f the face's area, w_f its photo-consistency in [0, 1]: the best mu x mu plane patch on
+// the face (either side's normal), truncated at 0. Faces larger than a few footprints (cells
+// the refinement left coarse, where no surface was found) get w_f = 0. The cut's surface is
+// the faces between source and sink cells, oriented outwards.
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "aggregator/hulls/triangle_mesh.h"
+#include "aggregator/stereo/bcc_lattice.h"
+#include "aggregator/stereo/patch_photo_consistency.h"
+#include "aggregator/stereo/tet_cell_labels.h"
+
+namespace silnet::aggregator {
+
+// Settings of the cut.
+struct TetGraphCutOptions {
+  double lambda = 0.1;                    // area term, per unit of face area
+  double sigma = 0.5;                     // width of the photo-consistency cost
+  double max_scored_face_footprints = 4;  // longer face edges: not scored (w_f = 0)
+  int threads = 0;
+};
+
+// The cut of one mesh, kept so cells can be forced inside and the cut updated (7.4.2).
+class TetGraphCut {
+ public:
+  // Builds the dual graph of `mesh` with `labels` (one per cell) and solves it. `footprint`
+  // (metres) sets the patches' point spacing. The mesh must outlive the cut.
+  TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labels, const PatchScorer& scorer,
+              double footprint, const TetGraphCutOptions& options);
+  ~TetGraphCut();
+
+  // Per cell: 1 on the source (interior) side of the current cut.
+  const std::vector<uint8_t>& Interior() const { return interior_; }
+  // The faces between the sides (and interior cells' faces on the mesh's boundary), oriented
+  // outwards.
+  TriangleMesh Surface() const;
+  // Ties the cells to the source and updates the cut (incrementally). Returns how many were
+  // not interior before.
+  size_t ForceInterior(const std::vector<int32_t>& cells);
+
+  size_t nodes() const { return interior_.size(); }
+  size_t links() const { return links_; }
+  size_t faces_scored() const { return faces_scored_; }
+  double flow() const;
+
+ private:
+  struct Graph;
+  const TetMesh& mesh_;
+  std::unique_ptr<Graph> graph_;
+  std::vector<uint8_t> interior_;
+  size_t links_ = 0, faces_scored_ = 0;
+};
+
+}  // namespace silnet::aggregator
