@@ -19,6 +19,7 @@ struct StereoArgs {
   double ballooning = StereoGraphCutDefaults().ballooning;
   int silhouette_rounds = StereoGraphCutDefaults().silhouette_rounds;
   int threads = 0;
+  std::string method = "uniform";
 };
 
 void PrintEvaluation(const char* name, const StereoMeshSummary& mesh) {
@@ -38,6 +39,7 @@ int RunStereo(const StereoArgs& args) {
   config.graph_cut.ballooning = args.ballooning;
   config.graph_cut.silhouette_rounds = args.silhouette_rounds;
   config.threads = args.threads;
+  config.method = args.method == "adaptive" ? StereoMethod::kAdaptive : StereoMethod::kUniform;
   const auto run =
       RunWithProgress("stereo", [&](Progress* progress) { return RunStereoJob(config, progress); });
   if (!run) return 130;
@@ -51,6 +53,19 @@ int PrintStereoResult(const StereoJobResult& result, const std::string& out) {
     std::printf("stereo: no model: %s (%.1f s) -> %s/stereo.yaml\n", result.reason.c_str(),
                 result.seconds.total, out.c_str());
     return 3;
+  }
+  if (result.adaptive) {
+    std::printf(
+        "stereo (adaptive): %zu views, model %zu triangles, %zu cells (finest %.2f mm); "
+        "silhouette pixels >= 1 px inside missed %zu, outside covered %zu; %.1f s (hull %.1f, "
+        "adaptive stereo %.1f) -> %s/model.ply\n",
+        result.views, result.model.triangles, result.adaptive->cells,
+        result.adaptive->finest_spacing * 1e3, result.model.MissedInner(),
+        result.model.CoveredOuter(), result.seconds.total, result.seconds.hull,
+        result.seconds.graph_cut, out.c_str());
+    PrintEvaluation("model", result.model);
+    PrintEvaluation("visual hull", result.hull);
+    return 0;
   }
   std::printf(
       "stereo: %zu views, model %zu triangles, lattice %dx%dx%d of %.2f mm, %zu graph nodes; "
@@ -77,6 +92,12 @@ Command AddStereoCommand(CLI::App& app) {
                   "calibration.yaml (or ground_truth.yaml) of a stills folder");
   cmd->add_option("-o,--out", args->out, "output folder")->required();
   cmd->add_option("--still", args->still, "the still (frame number) to reconstruct")
+      ->capture_default_str();
+  cmd->add_option("--method", args->method,
+                  "uniform: votes on a lattice and its graph cut (thesis ch. 5-6); adaptive: the "
+                  "adaptive tetrahedral mesh and its dual graph cut (ch. 7, less accurate so "
+                  "far: docs/PERFORMANCE.md)")
+      ->check(CLI::IsMember({"uniform", "adaptive"}))
       ->capture_default_str();
   // Values are validated by the job (InputError, exit code 2, with the reason).
   cmd->add_option("--lambda", args->lambda,

@@ -128,6 +128,19 @@ std::string PhotoConsistencyStats::BriefReport() const {
       votes_outside_hull, cell_size * 1e3, seconds_prepare, seconds_matching, seconds_merge);
 }
 
+double MeanFootprint(const std::vector<StereoView>& views, const TriangleMesh& mesh) {
+  if (mesh.vertices.empty() || views.empty()) return 0.0;
+  WorldBox box;
+  for (const Eigen::Vector3f& v : mesh.vertices)
+    box.extend(v.cast<double>());
+  double footprint = 0.0;
+  for (const StereoView& view : views) {
+    const double depth = (view.camera.R * box.center() + view.camera.t).z();
+    footprint += std::abs(depth) / view.camera.K(0, 0);
+  }
+  return footprint / static_cast<double>(views.size());
+}
+
 PhotoConsistencyResult ComputePhotoConsistency(const std::vector<StereoView>& views,
                                                const TriangleMesh& hull,
                                                const PhotoConsistencyOptions& options,
@@ -154,12 +167,7 @@ PhotoConsistencyResult ComputePhotoConsistency(const std::vector<StereoView>& vi
   for (const Eigen::Vector3f& v : hull.vertices)
     box.extend(v.cast<double>());
   const Eigen::Vector3d object_centre = box.center();
-  double footprint = 0.0;
-  for (const StereoView& view : views) {
-    const double depth = (view.camera.R * object_centre + view.camera.t).z();
-    footprint += std::abs(depth) / view.camera.K(0, 0);
-  }
-  footprint /= static_cast<double>(views.size());
+  const double footprint = MeanFootprint(views, hull);
   const double cell =
       options.cell_size > 0.0 ? options.cell_size : options.cell_size_footprints * footprint;
   const double pad = (options.hull_margin_cells + 1) * cell;

@@ -88,6 +88,10 @@ struct PhotoConsistencyResult {
   PhotoConsistencyStats stats;
 };
 
+// The mean over the views of the pixel footprint (metres per pixel) at the centre of the
+// mesh's bounding box: depth there over the focal length. 0 for an empty mesh.
+double MeanFootprint(const std::vector<StereoView>& views, const TriangleMesh& mesh);
+
 // Votes of all views' pairs into a lattice over `hull` (closed, outward-oriented, world
 // metres; the polyhedral visual hull of the same views). Views must be pinhole (no
 // distortion). Throws InputError for invalid options. Fails as data on fewer than two views,

@@ -95,6 +95,10 @@ size_t StereoMeshSummary::CoveredOuter() const {
   return covered;
 }
 
+std::string ToString(StereoMethod method) {
+  return method == StereoMethod::kAdaptive ? "adaptive" : "uniform";
+}
+
 VolumetricGraphCutOptions StereoGraphCutDefaults() {
   VolumetricGraphCutOptions options;
   options.lambda = 3.0;
@@ -194,60 +198,82 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   if (progress) progress->Advance();
   if (Cancelled(progress, &result)) return finish();
 
-  // Photo-consistency.
-  stage = Clock::now();
-  PhotoConsistencyOptions photo = config.photo_consistency;
-  photo.threads = config.threads;
-  PhotoConsistencyResult votes = ComputePhotoConsistency(views.views, hull.mesh, photo, progress);
-  result.seconds.photo_consistency = SecondsSince(stage);
-  result.photo_consistency = votes.stats;
-  result.lattice_dims = votes.volume.dims;
-  result.cell_size = votes.volume.cell_size;
-  for (const std::string& warning : votes.warnings)
-    result.warnings.push_back("photo-consistency: " + warning);
-  if (Cancelled(progress, &result)) return finish();
-  if (!votes.success) {
-    result.reason = "photo-consistency: " + votes.reason;
-    return finish();
-  }
-  result.footprint = truth && truth->footprint > 0 ? truth->footprint : votes.stats.footprint;
+  TriangleMesh model_surface;
+  if (config.method == StereoMethod::kAdaptive) {
+    stage = Clock::now();
+    if (progress) progress->Restart("graph cut", 1);
+    result.footprint =
+        truth && truth->footprint > 0 ? truth->footprint : MeanFootprint(views.views, hull.mesh);
+    AdaptiveStereoOptions adaptive = config.adaptive;
+    adaptive.threads = config.threads;
+    AdaptiveStereoResult run =
+        RunAdaptiveStereo(views.views, hull.mesh, result.footprint, adaptive);
+    result.adaptive = run.stats;
+    result.seconds.graph_cut = SecondsSince(stage);
+    if (progress) progress->Advance();
+    if (Cancelled(progress, &result)) return finish();
+    if (!run.success) {
+      result.reason = "adaptive stereo: " + run.reason;
+      return finish();
+    }
+    model_surface = std::move(run.surface);
+  } else {
+    // Photo-consistency.
+    stage = Clock::now();
+    PhotoConsistencyOptions photo = config.photo_consistency;
+    photo.threads = config.threads;
+    PhotoConsistencyResult votes = ComputePhotoConsistency(views.views, hull.mesh, photo, progress);
+    result.seconds.photo_consistency = SecondsSince(stage);
+    result.photo_consistency = votes.stats;
+    result.lattice_dims = votes.volume.dims;
+    result.cell_size = votes.volume.cell_size;
+    for (const std::string& warning : votes.warnings)
+      result.warnings.push_back("photo-consistency: " + warning);
+    if (Cancelled(progress, &result)) return finish();
+    if (!votes.success) {
+      result.reason = "photo-consistency: " + votes.reason;
+      return finish();
+    }
+    result.footprint = truth && truth->footprint > 0 ? truth->footprint : votes.stats.footprint;
 
-  // Graph cut.
-  stage = Clock::now();
-  if (progress) progress->Restart("graph cut", 1);
-  VoxelGrid hull_cells = HullOnLattice(hull.mesh, votes.volume);
-  if (!border_views.cameras.empty()) {
-    const BorderCarving carving = CarveByBorderViews(
-        border_views, hull_views, config.graph_cut.silhouette_margin_px, &hull_cells);
-    spdlog::info(
-        "the {} silhouettes the image border cuts carved {} hull cells; {} given back to cover "
-        "the other views' silhouettes",
-        border_views.cameras.size(), carving.carved, carving.restored);
+    // Graph cut.
+    stage = Clock::now();
+    if (progress) progress->Restart("graph cut", 1);
+    VoxelGrid hull_cells = HullOnLattice(hull.mesh, votes.volume);
+    if (!border_views.cameras.empty()) {
+      const BorderCarving carving = CarveByBorderViews(
+          border_views, hull_views, config.graph_cut.silhouette_margin_px, &hull_cells);
+      spdlog::info(
+          "the {} silhouettes the image border cuts carved {} hull cells; {} given back to cover "
+          "the other views' silhouettes",
+          border_views.cameras.size(), carving.carved, carving.restored);
+    }
+    CutSilhouettes constraints = hull_views;  // every view's silhouette must be covered
+    constraints.cameras.insert(constraints.cameras.end(), border_views.cameras.begin(),
+                               border_views.cameras.end());
+    constraints.masks.insert(constraints.masks.end(), border_views.masks.begin(),
+                             border_views.masks.end());
+    const VolumetricGraphCutResult cut =
+        VolumetricGraphCut(votes.volume, hull_cells, config.graph_cut, &constraints);
+    spdlog::info("{}", cut.stats.Brief());
+    result.seconds.graph_cut = SecondsSince(stage);
+    result.graph_cut = cut.stats;
+    if (progress) progress->Advance();
+    if (Cancelled(progress, &result)) return finish();
+    if (!cut.success) {
+      result.reason = "graph cut: " + cut.reason;
+      return finish();
+    }
+    if (cut.surface.triangles.empty()) {
+      result.reason = "graph cut: the cut surface is empty";
+      return finish();
+    }
+    model_surface = cut.surface;
   }
-  CutSilhouettes constraints = hull_views;  // every view's silhouette must be covered
-  constraints.cameras.insert(constraints.cameras.end(), border_views.cameras.begin(),
-                             border_views.cameras.end());
-  constraints.masks.insert(constraints.masks.end(), border_views.masks.begin(),
-                           border_views.masks.end());
-  const VolumetricGraphCutResult cut =
-      VolumetricGraphCut(votes.volume, hull_cells, config.graph_cut, &constraints);
-  spdlog::info("{}", cut.stats.Brief());
-  result.seconds.graph_cut = SecondsSince(stage);
-  result.graph_cut = cut.stats;
-  if (progress) progress->Advance();
-  if (Cancelled(progress, &result)) return finish();
-  if (!cut.success) {
-    result.reason = "graph cut: " + cut.reason;
-    return finish();
-  }
-  if (cut.surface.triangles.empty()) {
-    result.reason = "graph cut: the cut surface is empty";
-    return finish();
-  }
-  result.model = Summarise(cut.surface);
+  result.model = Summarise(model_surface);
   if (!result.model.closed_manifold) {
     result.reason = "graph cut: the surface is not a closed manifold (" +
-                    CheckClosedManifold(cut.surface).reason + ")";
+                    CheckClosedManifold(model_surface).reason + ")";
     return finish();
   }
 
@@ -255,11 +281,11 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   stage = Clock::now();
   if (progress) progress->Restart("evaluation", 2);
   result.hull.views = MeasureSilhouetteConsistency(hull.mesh, views.views);
-  result.model.views = MeasureSilhouetteConsistency(cut.surface, views.views);
+  result.model.views = MeasureSilhouetteConsistency(model_surface, views.views);
   if (progress) progress->Advance();
   if (truth && result.footprint > 0) {
     StereoTruthEvaluation measured =
-        EvaluateAgainstTruth(hull.mesh, cut.surface, *truth, result.footprint, views.views);
+        EvaluateAgainstTruth(hull.mesh, model_surface, *truth, result.footprint, views.views);
     result.hull.evaluation = std::move(measured.hull);
     result.model.evaluation = std::move(measured.model);
   }
@@ -268,12 +294,12 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   if (Cancelled(progress, &result)) return finish();
 
   result.model.file = "model.ply";
-  WritePlyMesh((config.output / result.model.file).string(), cut.surface);
+  WritePlyMesh((config.output / result.model.file).string(), model_surface);
 
   // Pictures.
   stage = Clock::now();
   if (progress) progress->Restart("pictures", views.views.size());
-  result.view_pictures = WriteViewPictures(config.output, views.views, cut.surface, progress);
+  result.view_pictures = WriteViewPictures(config.output, views.views, model_surface, progress);
   result.seconds.pictures = SecondsSince(stage);
   result.success = true;
   return finish();

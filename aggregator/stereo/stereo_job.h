@@ -9,7 +9,9 @@
 //   graph cut          the volumetric cut between the hull and an inner offset
 //                      (volumetric_graph_cut.h, 5.4.1), re-solved by silhouette steps (7.4.2)
 //                      until the model covers its silhouettes; the exact silhouette
-//                      constraints of 6.6-6.7 are not built yet
+//                      constraints of 6.6-6.7 are not built yet. With --method adaptive the
+//                      photo-consistency and graph cut stages are the adaptive tetrahedral
+//                      stereo of ch. 7 instead (adaptive_stereo.h; no vote lattice)
 //   evaluation         per view silhouette consistency of model and hull (model_evaluation.h)
 //                      and, when the folder has gt_surface.ply (simulated stills), accuracy
 //                      and completeness of model and hull against it, over the whole surface
@@ -35,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "aggregator/stereo/adaptive_stereo.h"
 #include "aggregator/stereo/model_evaluation.h"
 #include "aggregator/stereo/photo_consistency.h"
 #include "aggregator/stereo/stereo_truth.h"
@@ -50,6 +53,15 @@ namespace silnet::aggregator {
 // silhouette steps: on that ring the missed inner silhouette pixels go 18662, 92, 3, 0.
 VolumetricGraphCutOptions StereoGraphCutDefaults();
 
+// The reconstruction after the visual hull.
+enum class StereoMethod {
+  kUniform,   // votes on a uniform lattice and its volumetric graph cut (ch. 5-6): the default,
+              // the more accurate of the two (docs/PERFORMANCE.md)
+  kAdaptive,  // the adaptive tetrahedral mesh and its dual graph cut (ch. 7), not finished
+};
+// "uniform" or "adaptive".
+std::string ToString(StereoMethod method);
+
 // Inputs, outputs and settings of one run.
 struct StereoJobConfig {
   std::filesystem::path input;        // stills folder, or Middlebury folder
@@ -59,7 +71,9 @@ struct StereoJobConfig {
   int still = 0;                      // the still taken: stills/%06d.png, masks/%06d.png
   PhotoConsistencyOptions photo_consistency;  // threads set by `threads`
   VolumetricGraphCutOptions graph_cut = StereoGraphCutDefaults();
-  int threads = 0;  // 0 = all cores
+  StereoMethod method = StereoMethod::kUniform;
+  AdaptiveStereoOptions adaptive;  // with kAdaptive (threads set by `threads`)
+  int threads = 0;                 // 0 = all cores
 
   // True if the settings make sense; otherwise false with a reason.
   bool IsValid(std::string* reason) const;
@@ -97,7 +111,8 @@ struct StereoJobResult {
   PhotoConsistencyStats photo_consistency;
   std::array<int, 3> lattice_dims = {0, 0, 0};  // vote lattice cells along x, y, z
   double cell_size = 0;                         // metres
-  VolumetricGraphCutStats graph_cut;
+  VolumetricGraphCutStats graph_cut;            // kUniform
+  std::optional<AdaptiveStereoStats> adaptive;  // kAdaptive
   StereoStageTimes seconds;
   std::vector<std::string> view_pictures;  // views/<camera>.png, relative to the output folder
 };

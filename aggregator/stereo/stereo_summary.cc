@@ -64,6 +64,37 @@ void WriteMesh(cv::FileStorage& fs, const std::string& name, const StereoMeshSum
   fs << "}";
 }
 
+// The adaptive stereo's figures.
+void WriteAdaptive(cv::FileStorage& fs, const AdaptiveStereoStats& a) {
+  fs << "adaptive"
+     << "{"
+     << "cells" << AsInt(a.cells) << "links" << AsInt(a.links) << "faces_scored"
+     << AsInt(a.faces_scored) << "quasi_dense_points" << AsInt(a.quasi_dense_points)
+     << "finest_spacing_mm" << a.finest_spacing * 1e3 << "cells_outside_hull"
+     << AsInt(a.labels.outside_hull) << "cells_interior" << AsInt(a.labels.interior)
+     << "cells_forced" << AsInt(a.forced) << "cells_added_for_manifold" << AsInt(a.repaired)
+     << "missed_inner_per_round"
+     << "[";
+  for (size_t m : a.missed)
+    fs << AsInt(m);
+  fs << "]"
+     << "levels"
+     << "[";
+  for (const AdaptiveLevelStats& l : a.levels) {
+    fs << "{"
+       << "level" << l.level << "spacing_mm" << l.spacing * 1e3 << "cells" << AsInt(l.cells)
+       << "faces_sampled" << AsInt(l.faces_sampled) << "samples_scored" << AsInt(l.samples_scored)
+       << "active_cells" << AsInt(l.active_cells) << "refined_cells" << AsInt(l.refined_cells)
+       << "seconds" << l.seconds << "}";
+  }
+  fs << "]"
+     << "seconds"
+     << "{"
+     << "mesh" << a.seconds_mesh << "labels" << a.seconds_labels << "cut" << a.seconds_cut
+     << "silhouettes" << a.seconds_silhouettes << "surface" << a.seconds_surface << "}"
+     << "}";
+}
+
 }  // namespace
 
 void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& result) {
@@ -75,12 +106,17 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
      << config.still;
   fs << "success" << static_cast<int>(result.success);
   if (!result.success) fs << "reason" << result.reason;
-  fs << "method"
-     << fmt::format("volumetric graph cut (thesis 5.4.1){}",
-                    config.graph_cut.silhouette_rounds > 0
-                        ? fmt::format(", up to {} silhouette steps (7.4.2)",
-                                      config.graph_cut.silhouette_rounds)
-                        : "");
+  if (config.method == StereoMethod::kAdaptive) {
+    fs << "method"
+       << "adaptive tetrahedral graph cut (thesis 7.3-7.4.2, without the local refinement)";
+  } else {
+    fs << "method"
+       << fmt::format("volumetric graph cut (thesis 5.4.1){}",
+                      config.graph_cut.silhouette_rounds > 0
+                          ? fmt::format(", up to {} silhouette steps (7.4.2)",
+                                        config.graph_cut.silhouette_rounds)
+                          : "");
+  }
   const PhotoConsistencyOptions& photo = config.photo_consistency;
   const VolumetricGraphCutOptions& cut = config.graph_cut;
   fs << "settings"
@@ -111,6 +147,7 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
      << "forced_cells" << AsInt(g.forced_cells) << "graph_bytes"
      << static_cast<double>(g.graph_bytes) << "lattice_bytes"
      << static_cast<double>(g.lattice_bytes) << "cut_cost" << g.cut_cost << "}";
+  if (result.adaptive) WriteAdaptive(fs, *result.adaptive);
   const StereoStageTimes& s = result.seconds;
   fs << "seconds"
      << "{"

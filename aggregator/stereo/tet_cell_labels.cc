@@ -74,7 +74,8 @@ std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<int>& l
   for (size_t t = 0; t < cells; ++t)
     if (labels[t] == CellLabel::kFree && levels[t] < finest) coarse_votes.push_back(votes[t]);
   if (!coarse_votes.empty()) {
-    const uint32_t interior_max = Percentile(coarse_votes, options.interior_percentile);
+    const uint32_t interior_max =
+        Percentile(coarse_votes, std::max(0.0, options.interior_percentile));
     const uint32_t exterior_min =
         options.exterior_percentile >= 100
             ? std::numeric_limits<uint32_t>::max()
@@ -82,7 +83,7 @@ std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<int>& l
                                  Percentile(coarse_votes, options.exterior_percentile));
     for (size_t t = 0; t < cells; ++t) {
       if (labels[t] != CellLabel::kFree || levels[t] >= finest) continue;
-      if (votes[t] <= interior_max) {
+      if (options.interior_percentile >= 0 && votes[t] <= interior_max) {
         labels[t] = CellLabel::kInterior;
         ++local.interior;
       } else if (votes[t] >= exterior_min) {

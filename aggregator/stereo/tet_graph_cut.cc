@@ -10,30 +10,6 @@
 #include "shared/util/parallel_for.h"
 
 namespace silnet::aggregator {
-namespace {
-
-// A face of a cell: its sorted vertex ids, the cell, and the corner opposite it.
-struct CellFace {
-  std::array<int32_t, 3> ids;
-  int32_t cell;
-  int8_t opposite;
-  bool operator<(const CellFace& o) const { return ids < o.ids || (ids == o.ids && cell < o.cell); }
-};
-
-// The face of `cell` opposite corner `opposite`, oriented away from the cell.
-std::array<int32_t, 3> OutwardFace(const TetMesh& mesh, int32_t cell, int opposite) {
-  const Tetrahedron& t = mesh.tetrahedra[static_cast<size_t>(cell)];
-  std::array<int32_t, 3> f{};
-  int k = 0;
-  for (int c = 0; c < 4; ++c)
-    if (c != opposite) f[k++] = t[c];
-  const Eigen::Vector3d& a = mesh.vertices[f[0]];
-  const Eigen::Vector3d normal = (mesh.vertices[f[1]] - a).cross(mesh.vertices[f[2]] - a);
-  if (normal.dot(mesh.vertices[t[opposite]] - a) > 0) std::swap(f[1], f[2]);
-  return f;
-}
-
-}  // namespace
 
 struct TetGraphCut::Graph {
   MaxFlowGraph flow{0, 0};
@@ -41,6 +17,10 @@ struct TetGraphCut::Graph {
 };
 
 TetGraphCut::~TetGraphCut() = default;
+
+const std::vector<CellFace>& TetGraphCut::Faces() const {
+  return graph_->faces;
+}
 
 double TetGraphCut::flow() const {
   return graph_->flow.flow();
@@ -53,19 +33,8 @@ TetGraphCut::TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labe
   SILNET_CHECK(labels.size() == mesh.tetrahedra.size());
   SILNET_CHECK(footprint > 0 && options.sigma > 0 && options.lambda >= 0);
   const size_t cells = mesh.tetrahedra.size();
-  std::vector<CellFace>& faces = graph_->faces;
-  faces.reserve(4 * cells);
-  for (size_t t = 0; t < cells; ++t) {
-    for (int o = 0; o < 4; ++o) {
-      CellFace f{{}, static_cast<int32_t>(t), static_cast<int8_t>(o)};
-      int k = 0;
-      for (int c = 0; c < 4; ++c)
-        if (c != o) f.ids[k++] = mesh.tetrahedra[t][c];
-      std::sort(f.ids.begin(), f.ids.end());
-      faces.push_back(f);
-    }
-  }
-  std::sort(faces.begin(), faces.end());
+  graph_->faces = SortedCellFaces(mesh);
+  const std::vector<CellFace>& faces = graph_->faces;
   // Shared faces: consecutive entries with equal ids.
   std::vector<size_t> shared;
   for (size_t k = 0; k + 1 < faces.size(); ++k)
@@ -131,6 +100,7 @@ size_t TetGraphCut::ForceInterior(const std::vector<int32_t>& cells) {
   for (int32_t c : cells) {
     if (interior_[static_cast<size_t>(c)]) continue;
     graph_->flow.ForceSourceSide(c);
+    forced_.push_back(c);
     ++added;
   }
   if (added == 0) return 0;
@@ -141,33 +111,7 @@ size_t TetGraphCut::ForceInterior(const std::vector<int32_t>& cells) {
 }
 
 TriangleMesh TetGraphCut::Surface() const {
-  const TetMesh& mesh = mesh_;
-  const std::vector<CellFace>& faces = graph_->faces;
-  TriangleMesh surface;
-  std::vector<int32_t> remap(mesh.vertices.size(), -1);
-  const auto add_face = [&](int32_t cell, int opposite) {
-    const std::array<int32_t, 3> f = OutwardFace(mesh, cell, opposite);
-    std::array<int32_t, 3> triangle{};
-    for (int k = 0; k < 3; ++k) {
-      int32_t& id = remap[static_cast<size_t>(f[k])];
-      if (id < 0) {
-        id = static_cast<int32_t>(surface.vertices.size());
-        surface.vertices.push_back(mesh.vertices[f[k]].cast<float>());
-      }
-      triangle[k] = id;
-    }
-    surface.triangles.push_back(triangle);
-  };
-  for (size_t k = 0; k < faces.size(); ++k) {
-    const bool paired_next = k + 1 < faces.size() && faces[k].ids == faces[k + 1].ids;
-    const bool paired_prev = k > 0 && faces[k].ids == faces[k - 1].ids;
-    const int32_t cell = faces[k].cell;
-    if (!interior_[static_cast<size_t>(cell)]) continue;
-    if (paired_next && interior_[static_cast<size_t>(faces[k + 1].cell)]) continue;
-    if (paired_prev && interior_[static_cast<size_t>(faces[k - 1].cell)]) continue;
-    add_face(cell, faces[k].opposite);
-  }
-  return surface;
+  return InteriorBoundary(mesh_, graph_->faces, interior_);
 }
 
 }  // namespace silnet::aggregator

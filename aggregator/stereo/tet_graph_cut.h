@@ -19,6 +19,7 @@
 #include "aggregator/stereo/bcc_lattice.h"
 #include "aggregator/stereo/patch_photo_consistency.h"
 #include "aggregator/stereo/tet_cell_labels.h"
+#include "aggregator/stereo/tet_surface.h"
 
 namespace silnet::aggregator {
 
@@ -48,6 +49,11 @@ class TetGraphCut {
   // not interior before.
   size_t ForceInterior(const std::vector<int32_t>& cells);
 
+  // The cells ForceInterior made interior, in order.
+  const std::vector<int32_t>& Forced() const { return forced_; }
+  // The mesh's faces (SortedCellFaces).
+  const std::vector<CellFace>& Faces() const;
+
   size_t nodes() const { return interior_.size(); }
   size_t links() const { return links_; }
   size_t faces_scored() const { return faces_scored_; }
@@ -58,6 +64,7 @@ class TetGraphCut {
   const TetMesh& mesh_;
   std::unique_ptr<Graph> graph_;
   std::vector<uint8_t> interior_;
+  std::vector<int32_t> forced_;
   size_t links_ = 0, faces_scored_ = 0;
 };
 

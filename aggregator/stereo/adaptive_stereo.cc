@@ -1,0 +1,104 @@
+#include "aggregator/stereo/adaptive_stereo.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+#include "aggregator/stereo/tet_point_locator.h"
+#include "shared/util/check.h"
+
+namespace silnet::aggregator {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
+                                       const TriangleMesh& hull, double footprint,
+                                       const AdaptiveStereoOptions& options) {
+  SILNET_CHECK(footprint > 0);
+  AdaptiveStereoResult result;
+  AdaptiveStereoStats& stats = result.stats;
+  if (hull.triangles.empty()) {
+    result.reason = "the visual hull is empty";
+    return result;
+  }
+  WorldBox box;
+  for (const Eigen::Vector3f& v : hull.vertices)
+    box.extend(v.cast<double>());
+
+  Clock::time_point start = Clock::now();
+  AdaptiveTetMeshOptions mesh_options = options.mesh;
+  mesh_options.threads = options.threads;
+  const AdaptiveTetMesh adaptive = BuildAdaptiveTetMesh(views, box, footprint, mesh_options);
+  const ConformingTetMesh conforming = adaptive.mesh.Conform();
+  const TetMesh& mesh = conforming.mesh;
+  std::vector<int> levels;
+  levels.reserve(conforming.leaf.size());
+  for (int32_t leaf : conforming.leaf)
+    levels.push_back(adaptive.mesh.Level(leaf));
+  stats.levels = adaptive.levels;
+  stats.cells = mesh.tetrahedra.size();
+  stats.quasi_dense_points = adaptive.points.size();
+  stats.finest_spacing = adaptive.levels.back().spacing;
+  stats.seconds_mesh = SecondsSince(start);
+
+  start = Clock::now();
+  const PatchScorer scorer(views, options.mesh.patch);
+  std::vector<CameraModel> cameras;
+  for (const StereoView& view : views)
+    cameras.push_back(view.camera);
+  CellLabelOptions label_options = options.labels;
+  label_options.ray_step = stats.finest_spacing / 2;
+  label_options.ray_start = 2 * stats.finest_spacing;
+  label_options.threads = options.threads;
+  const std::vector<CellLabel> labels =
+      LabelCells(mesh, levels, adaptive.levels.back().level, scorer, cameras, adaptive.points,
+                 label_options, &stats.labels);
+  stats.seconds_labels = SecondsSince(start);
+
+  start = Clock::now();
+  TetGraphCutOptions cut_options = options.cut;
+  cut_options.threads = options.threads;
+  TetGraphCut cut(mesh, labels, scorer, footprint, cut_options);
+  stats.links = cut.links();
+  stats.faces_scored = cut.faces_scored();
+  stats.seconds_cut = SecondsSince(start);
+
+  start = Clock::now();
+  const TetPointLocator locator(mesh, 2 * stats.finest_spacing);
+  TetSilhouetteOptions silhouette_options = options.silhouettes;
+  silhouette_options.ray_step = stats.finest_spacing / 2;
+  const TetSilhouetteStats step =
+      EnforceSilhouettesOnTets(&cut, mesh, labels, locator, views, silhouette_options);
+  stats.missed = step.missed;
+  stats.forced = step.forced;
+  stats.seconds_silhouettes = SecondsSince(start);
+
+  start = Clock::now();
+  TetSurfaceOptions surface_options = options.surface;
+  surface_options.max_vertex_shift = stats.finest_spacing / 2;
+  result.surface = ExtractTetSurface(mesh, cut.Faces(), cut.Interior(), surface_options,
+                                     cut.Forced(), &stats.repaired);
+  stats.seconds_surface = SecondsSince(start);
+  spdlog::info(
+      "adaptive stereo: {} cells ({} levels), {} quasi-dense points, {} faces scored; "
+      "{} cells forced by the silhouettes, {} added for a manifold surface; {} triangles; "
+      "mesh {:.1f} s, labels {:.1f} s, cut {:.1f} s, silhouettes {:.1f} s, surface {:.1f} s",
+      stats.cells, stats.levels.size(), stats.quasi_dense_points, stats.faces_scored, stats.forced,
+      stats.repaired, result.surface.triangles.size(), stats.seconds_mesh, stats.seconds_labels,
+      stats.seconds_cut, stats.seconds_silhouettes, stats.seconds_surface);
+  if (result.surface.triangles.empty()) {
+    result.reason = "the cut is empty";
+    return result;
+  }
+  result.success = true;
+  return result;
+}
+
+}  // namespace silnet::aggregator

@@ -1,0 +1,21 @@
+#pragma once
+// Taubin's lambda|mu smoothing of a triangle mesh ("A Signal Processing Approach to Fair
+// Surface Design", SIGGRAPH 1995): pairs of umbrella-operator Laplacian steps, one shrinking
+// (lambda > 0), one inflating (mu < -lambda), which remove a lattice's staircase without
+// shrinking the surface. Each vertex stays within its own box, so the smoothed surface keeps
+// within a known distance of the one it came from. Moves vertices only: a closed manifold
+// stays one.
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "aggregator/hulls/triangle_mesh.h"
+
+namespace silnet::aggregator {
+
+// Smooths `mesh` in place: `iterations` lambda|mu pairs, vertex i clamped to [lo[i], hi[i]]
+// after every step (lo, hi as long as the vertices; CheckError otherwise).
+void TaubinSmooth(TriangleMesh* mesh, int iterations, double lambda, double mu,
+                  const std::vector<Eigen::Vector3f>& lo, const std::vector<Eigen::Vector3f>& hi);
+
+}  // namespace silnet::aggregator
