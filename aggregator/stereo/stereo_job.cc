@@ -79,6 +79,90 @@ StereoViews LoadViews(const StereoJobConfig& config) {
   }
 }
 
+// The model by the adaptive tetrahedral stereo (ch. 7) into `surface`; false with the
+// reason in `result` on failure or cancellation.
+bool AdaptiveModel(const StereoJobConfig& config, const StereoViews& views,
+                   const PolyhedralHullResult& hull, const std::optional<StereoTruth>& truth,
+                   Progress* progress, StereoJobResult* result, TriangleMesh* surface) {
+  const Clock::time_point stage = Clock::now();
+  if (progress) progress->Restart("graph cut", 1);
+  result->footprint =
+      truth && truth->footprint > 0 ? truth->footprint : MeanFootprint(views.views, hull.mesh);
+  AdaptiveStereoOptions adaptive = config.adaptive;
+  adaptive.threads = config.threads;
+  AdaptiveStereoResult run = RunAdaptiveStereo(views.views, hull.mesh, result->footprint, adaptive);
+  result->adaptive = run.stats;
+  result->seconds.graph_cut = SecondsSince(stage);
+  if (progress) progress->Advance();
+  if (Cancelled(progress, result)) return false;
+  if (!run.success) {
+    result->reason = "adaptive stereo: " + run.reason;
+    return false;
+  }
+  *surface = std::move(run.surface);
+  return true;
+}
+
+// The model by votes on a uniform lattice and its graph cut (ch. 5-6) into `surface`; false
+// with the reason in `result` on failure or cancellation.
+bool UniformModel(const StereoJobConfig& config, const StereoViews& views,
+                  const PolyhedralHullResult& hull, const CutSilhouettes& hull_views,
+                  const CutSilhouettes& border_views, const std::optional<StereoTruth>& truth,
+                  Progress* progress, StereoJobResult* result, TriangleMesh* surface) {
+  // Photo-consistency.
+  Clock::time_point stage = Clock::now();
+  PhotoConsistencyOptions photo = config.photo_consistency;
+  photo.threads = config.threads;
+  PhotoConsistencyResult votes = ComputePhotoConsistency(views.views, hull.mesh, photo, progress);
+  result->seconds.photo_consistency = SecondsSince(stage);
+  result->photo_consistency = votes.stats;
+  result->lattice_dims = votes.volume.dims;
+  result->cell_size = votes.volume.cell_size;
+  for (const std::string& warning : votes.warnings)
+    result->warnings.push_back("photo-consistency: " + warning);
+  if (Cancelled(progress, result)) return false;
+  if (!votes.success) {
+    result->reason = "photo-consistency: " + votes.reason;
+    return false;
+  }
+  result->footprint = truth && truth->footprint > 0 ? truth->footprint : votes.stats.footprint;
+
+  // Graph cut.
+  stage = Clock::now();
+  if (progress) progress->Restart("graph cut", 1);
+  VoxelGrid hull_cells = HullOnLattice(hull.mesh, votes.volume);
+  if (!border_views.cameras.empty()) {
+    const BorderCarving carving = CarveByBorderViews(
+        border_views, hull_views, config.graph_cut.silhouette_margin_px, &hull_cells);
+    spdlog::info(
+        "the {} silhouettes the image border cuts carved {} hull cells; {} given back to cover "
+        "the other views' silhouettes",
+        border_views.cameras.size(), carving.carved, carving.restored);
+  }
+  CutSilhouettes constraints = hull_views;  // every view's silhouette must be covered
+  constraints.cameras.insert(constraints.cameras.end(), border_views.cameras.begin(),
+                             border_views.cameras.end());
+  constraints.masks.insert(constraints.masks.end(), border_views.masks.begin(),
+                           border_views.masks.end());
+  const VolumetricGraphCutResult cut =
+      VolumetricGraphCut(votes.volume, hull_cells, config.graph_cut, &constraints);
+  spdlog::info("{}", cut.stats.Brief());
+  result->seconds.graph_cut = SecondsSince(stage);
+  result->graph_cut = cut.stats;
+  if (progress) progress->Advance();
+  if (Cancelled(progress, result)) return false;
+  if (!cut.success) {
+    result->reason = "graph cut: " + cut.reason;
+    return false;
+  }
+  if (cut.surface.triangles.empty()) {
+    result->reason = "graph cut: the cut surface is empty";
+    return false;
+  }
+  *surface = cut.surface;
+  return true;
+}
+
 }  // namespace
 
 size_t StereoMeshSummary::MissedInner() const {
@@ -199,77 +283,12 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   if (Cancelled(progress, &result)) return finish();
 
   TriangleMesh model_surface;
-  if (config.method == StereoMethod::kAdaptive) {
-    stage = Clock::now();
-    if (progress) progress->Restart("graph cut", 1);
-    result.footprint =
-        truth && truth->footprint > 0 ? truth->footprint : MeanFootprint(views.views, hull.mesh);
-    AdaptiveStereoOptions adaptive = config.adaptive;
-    adaptive.threads = config.threads;
-    AdaptiveStereoResult run =
-        RunAdaptiveStereo(views.views, hull.mesh, result.footprint, adaptive);
-    result.adaptive = run.stats;
-    result.seconds.graph_cut = SecondsSince(stage);
-    if (progress) progress->Advance();
-    if (Cancelled(progress, &result)) return finish();
-    if (!run.success) {
-      result.reason = "adaptive stereo: " + run.reason;
-      return finish();
-    }
-    model_surface = std::move(run.surface);
-  } else {
-    // Photo-consistency.
-    stage = Clock::now();
-    PhotoConsistencyOptions photo = config.photo_consistency;
-    photo.threads = config.threads;
-    PhotoConsistencyResult votes = ComputePhotoConsistency(views.views, hull.mesh, photo, progress);
-    result.seconds.photo_consistency = SecondsSince(stage);
-    result.photo_consistency = votes.stats;
-    result.lattice_dims = votes.volume.dims;
-    result.cell_size = votes.volume.cell_size;
-    for (const std::string& warning : votes.warnings)
-      result.warnings.push_back("photo-consistency: " + warning);
-    if (Cancelled(progress, &result)) return finish();
-    if (!votes.success) {
-      result.reason = "photo-consistency: " + votes.reason;
-      return finish();
-    }
-    result.footprint = truth && truth->footprint > 0 ? truth->footprint : votes.stats.footprint;
-
-    // Graph cut.
-    stage = Clock::now();
-    if (progress) progress->Restart("graph cut", 1);
-    VoxelGrid hull_cells = HullOnLattice(hull.mesh, votes.volume);
-    if (!border_views.cameras.empty()) {
-      const BorderCarving carving = CarveByBorderViews(
-          border_views, hull_views, config.graph_cut.silhouette_margin_px, &hull_cells);
-      spdlog::info(
-          "the {} silhouettes the image border cuts carved {} hull cells; {} given back to cover "
-          "the other views' silhouettes",
-          border_views.cameras.size(), carving.carved, carving.restored);
-    }
-    CutSilhouettes constraints = hull_views;  // every view's silhouette must be covered
-    constraints.cameras.insert(constraints.cameras.end(), border_views.cameras.begin(),
-                               border_views.cameras.end());
-    constraints.masks.insert(constraints.masks.end(), border_views.masks.begin(),
-                             border_views.masks.end());
-    const VolumetricGraphCutResult cut =
-        VolumetricGraphCut(votes.volume, hull_cells, config.graph_cut, &constraints);
-    spdlog::info("{}", cut.stats.Brief());
-    result.seconds.graph_cut = SecondsSince(stage);
-    result.graph_cut = cut.stats;
-    if (progress) progress->Advance();
-    if (Cancelled(progress, &result)) return finish();
-    if (!cut.success) {
-      result.reason = "graph cut: " + cut.reason;
-      return finish();
-    }
-    if (cut.surface.triangles.empty()) {
-      result.reason = "graph cut: the cut surface is empty";
-      return finish();
-    }
-    model_surface = cut.surface;
-  }
+  const bool built =
+      config.method == StereoMethod::kAdaptive
+          ? AdaptiveModel(config, views, hull, truth, progress, &result, &model_surface)
+          : UniformModel(config, views, hull, hull_views, border_views, truth, progress, &result,
+                         &model_surface);
+  if (!built) return finish();
   result.model = Summarise(model_surface);
   if (!result.model.closed_manifold) {
     result.reason = "graph cut: the surface is not a closed manifold (" +

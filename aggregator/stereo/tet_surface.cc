@@ -51,6 +51,30 @@ int32_t Find(std::vector<int32_t>& parent, int32_t x) {
   return x;
 }
 
+// The boundary faces as a mesh of their own vertices; `remap` (if given) gets, per mesh
+// vertex, its index in the result or -1.
+TriangleMesh BoundaryMesh(const TetMesh& mesh, const std::vector<CellFace>& faces,
+                          const std::vector<uint8_t>& interior, std::vector<int32_t>* remap) {
+  SILNET_CHECK(interior.size() == mesh.tetrahedra.size());
+  TriangleMesh surface;
+  std::vector<int32_t> local;
+  std::vector<int32_t>& ids = remap ? *remap : local;
+  ids.assign(mesh.vertices.size(), -1);
+  for (const auto& f : BoundaryFaces(mesh, faces, interior)) {
+    std::array<int32_t, 3> triangle{};
+    for (int k = 0; k < 3; ++k) {
+      int32_t& id = ids[static_cast<size_t>(f[k])];
+      if (id < 0) {
+        id = static_cast<int32_t>(surface.vertices.size());
+        surface.vertices.push_back(mesh.vertices[f[k]].cast<float>());
+      }
+      triangle[k] = id;
+    }
+    surface.triangles.push_back(triangle);
+  }
+  return surface;
+}
+
 }  // namespace
 
 std::vector<CellFace> SortedCellFaces(const TetMesh& mesh) {
@@ -74,22 +98,7 @@ std::vector<CellFace> SortedCellFaces(const TetMesh& mesh) {
 
 TriangleMesh InteriorBoundary(const TetMesh& mesh, const std::vector<CellFace>& faces,
                               const std::vector<uint8_t>& interior) {
-  SILNET_CHECK(interior.size() == mesh.tetrahedra.size());
-  TriangleMesh surface;
-  std::vector<int32_t> remap(mesh.vertices.size(), -1);
-  for (const auto& f : BoundaryFaces(mesh, faces, interior)) {
-    std::array<int32_t, 3> triangle{};
-    for (int k = 0; k < 3; ++k) {
-      int32_t& id = remap[static_cast<size_t>(f[k])];
-      if (id < 0) {
-        id = static_cast<int32_t>(surface.vertices.size());
-        surface.vertices.push_back(mesh.vertices[f[k]].cast<float>());
-      }
-      triangle[k] = id;
-    }
-    surface.triangles.push_back(triangle);
-  }
-  return surface;
+  return BoundaryMesh(mesh, faces, interior, nullptr);
 }
 
 size_t RepairPinches(const TetMesh& mesh, const std::vector<CellFace>& faces,
@@ -194,21 +203,8 @@ TriangleMesh ExtractTetSurface(const TetMesh& mesh, const std::vector<CellFace>&
                                const std::vector<int32_t>& pinned, size_t* repaired) {
   const size_t grown = RepairPinches(mesh, faces, &interior);
   if (repaired) *repaired = grown;
-  // The boundary with the mesh's vertex ids kept alongside, to pin cell corners.
-  TriangleMesh surface;
-  std::vector<int32_t> remap(mesh.vertices.size(), -1);
-  for (const auto& f : BoundaryFaces(mesh, faces, interior)) {
-    std::array<int32_t, 3> triangle{};
-    for (int k = 0; k < 3; ++k) {
-      int32_t& id = remap[static_cast<size_t>(f[k])];
-      if (id < 0) {
-        id = static_cast<int32_t>(surface.vertices.size());
-        surface.vertices.push_back(mesh.vertices[f[k]].cast<float>());
-      }
-      triangle[k] = id;
-    }
-    surface.triangles.push_back(triangle);
-  }
+  std::vector<int32_t> remap;  // mesh vertex -> surface vertex, to pin cell corners
+  TriangleMesh surface = BoundaryMesh(mesh, faces, interior, &remap);
   const auto shift = static_cast<float>(options.max_vertex_shift);
   std::vector<Eigen::Vector3f> lo(surface.vertices.size()), hi(surface.vertices.size());
   for (size_t i = 0; i < surface.vertices.size(); ++i) {
