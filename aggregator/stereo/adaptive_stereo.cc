@@ -20,7 +20,7 @@ double SecondsSince(Clock::time_point start) {
 
 AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
                                        const TriangleMesh& hull, double footprint,
-                                       const AdaptiveStereoOptions& options) {
+                                       const AdaptiveStereoOptions& options, Progress* progress) {
   SILNET_CHECK(footprint > 0);
   AdaptiveStereoResult result;
   AdaptiveStereoStats& stats = result.stats;
@@ -32,10 +32,22 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   for (const Eigen::Vector3f& v : hull.vertices)
     box.extend(v.cast<double>());
 
+  if (progress) progress->Restart("adaptive stereo", 5);
+  // True (with the reason set) when the run was cancelled; else advances the progress.
+  const auto cancelled = [&]() {
+    if (progress && progress->cancelled()) {
+      result.reason = "cancelled";
+      return true;
+    }
+    if (progress) progress->Advance();
+    return false;
+  };
   Clock::time_point start = Clock::now();
   AdaptiveTetMeshOptions mesh_options = options.mesh;
   mesh_options.threads = options.threads;
-  const AdaptiveTetMesh adaptive = BuildAdaptiveTetMesh(views, box, footprint, mesh_options);
+  const AdaptiveTetMesh adaptive =
+      BuildAdaptiveTetMesh(views, box, footprint, mesh_options, progress);
+  if (cancelled()) return result;
   const ConformingTetMesh conforming = adaptive.mesh.Conform();
   const TetMesh& mesh = conforming.mesh;
   std::vector<int> levels;
@@ -61,6 +73,7 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
       LabelCells(mesh, levels, adaptive.levels.back().level, scorer, cameras, adaptive.points,
                  label_options, &stats.labels);
   stats.seconds_labels = SecondsSince(start);
+  if (cancelled()) return result;
 
   start = Clock::now();
   TetGraphCutOptions cut_options = options.cut;
@@ -69,6 +82,7 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   stats.links = cut.links();
   stats.faces_scored = cut.faces_scored();
   stats.seconds_cut = SecondsSince(start);
+  if (cancelled()) return result;
 
   start = Clock::now();
   const TetPointLocator locator(mesh, 2 * stats.finest_spacing);
@@ -79,6 +93,7 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   stats.missed = step.missed;
   stats.forced = step.forced;
   stats.seconds_silhouettes = SecondsSince(start);
+  if (cancelled()) return result;
 
   start = Clock::now();
   TetSurfaceOptions surface_options = options.surface;
@@ -86,6 +101,7 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   result.surface = ExtractTetSurface(mesh, cut.Faces(), cut.Interior(), surface_options,
                                      cut.Forced(), &stats.repaired);
   stats.seconds_surface = SecondsSince(start);
+  if (progress) progress->Advance();
   spdlog::info(
       "adaptive stereo: {} cells ({} levels), {} quasi-dense points, {} faces scored; "
       "{} cells forced by the silhouettes, {} added for a manifold surface; {} triangles; "

@@ -59,9 +59,12 @@ struct AdaptiveStereoResult {
 };
 
 // Runs the stages on `views` (undistorted) whose visual hull is `hull`, `footprint` metres per
-// pixel at the object (> 0). An empty hull or an empty cut is a failure with a reason.
+// pixel at the object (> 0). An empty hull or an empty cut is a failure with a reason, and so
+// is cancellation through `progress` (may be null; one item per stage, polled between stages
+// and between the mesh's levels).
 AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
                                        const TriangleMesh& hull, double footprint,
-                                       const AdaptiveStereoOptions& options);
+                                       const AdaptiveStereoOptions& options,
+                                       Progress* progress = nullptr);
 
 }  // namespace silnet::aggregator

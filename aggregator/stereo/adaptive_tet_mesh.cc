@@ -33,7 +33,8 @@ bool AdaptiveTetMeshOptions::IsValid(std::string* reason) const {
 }
 
 AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const WorldBox& box,
-                                     double footprint, const AdaptiveTetMeshOptions& options) {
+                                     double footprint, const AdaptiveTetMeshOptions& options,
+                                     const Progress* progress) {
   std::string reason;
   SILNET_CHECK_MSG(options.IsValid(&reason), reason);
   SILNET_CHECK(footprint > 0);
@@ -59,6 +60,7 @@ AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const
   std::vector<std::array<int32_t, 3>> ids;
   std::vector<TriangleCorners> corners;
   for (int level = 0; level <= levels; ++level) {
+    if (progress && progress->cancelled()) break;
     const auto start = std::chrono::steady_clock::now();
     AdaptiveLevelStats stats;
     stats.level = level;

@@ -17,6 +17,7 @@
 #include "aggregator/stereo/patch_photo_consistency.h"
 #include "aggregator/stereo/red_green_mesh.h"
 #include "aggregator/stereo/stereo_views.h"
+#include "shared/util/progress.h"
 
 namespace silnet::aggregator {
 
@@ -61,8 +62,10 @@ struct AdaptiveTetMesh {
 };
 
 // Builds the mesh over `box` (world metres) for views whose pixel footprint at the object is
-// `footprint` metres. Options must be valid and footprint > 0 (CheckError otherwise).
+// `footprint` metres. Options must be valid and footprint > 0 (CheckError otherwise). Stops
+// after the level in progress when `progress` (may be null) is cancelled.
 AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const WorldBox& box,
-                                     double footprint, const AdaptiveTetMeshOptions& options);
+                                     double footprint, const AdaptiveTetMeshOptions& options,
+                                     const Progress* progress = nullptr);
 
 }  // namespace silnet::aggregator

@@ -85,7 +85,6 @@ bool AdaptiveModel(const StereoJobConfig& config, const StereoViews& views,
                    const PolyhedralHullResult& hull, const std::optional<StereoTruth>& truth,
                    Progress* progress, StereoJobResult* result, TriangleMesh* surface) {
   const Clock::time_point stage = Clock::now();
-  if (progress) progress->Restart("graph cut", 1);
   result->footprint =
       truth && truth->footprint > 0 ? truth->footprint : MeanFootprint(views.views, hull.mesh);
   AdaptiveStereoOptions adaptive = config.adaptive;
@@ -93,7 +92,6 @@ bool AdaptiveModel(const StereoJobConfig& config, const StereoViews& views,
   AdaptiveStereoResult run = RunAdaptiveStereo(views.views, hull.mesh, result->footprint, adaptive);
   result->adaptive = run.stats;
   result->seconds.graph_cut = SecondsSince(stage);
-  if (progress) progress->Advance();
   if (Cancelled(progress, result)) return false;
   if (!run.success) {
     result->reason = "adaptive stereo: " + run.reason;

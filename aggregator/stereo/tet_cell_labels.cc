@@ -63,6 +63,9 @@ std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<int>& l
         if (!box.contains(x)) break;
         const int32_t t = locator.Locate(x);
         if (t < 0 || t == last) continue;
+        // Out of the hull the ray has left the cells that matter (it could enter again only
+        // through a concavity of the hull itself).
+        if (labels[static_cast<size_t>(t)] == CellLabel::kExterior) break;
         last = t;
         votes[static_cast<size_t>(t)].fetch_add(1, std::memory_order_relaxed);
       }

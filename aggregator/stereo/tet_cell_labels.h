@@ -2,9 +2,9 @@
 // Hard labels of the adaptive mesh's cells before the graph cut (thesis 7.3.3). A cell whose
 // centroid some view sees outside its silhouette is outside the visual hull: exterior. The
 // quasi-dense points vote along their rays to the views that scored them (a point seen from
-// a camera has free space between them): inside the hull, cells that were never refined to
-// the finest level (no surface was found through them) and received no more votes than the
-// `interior_percentile` of such cells are interior; those with at least the
+// a camera has free space between them), each ray until it leaves the hull: inside the hull, cells
+// that were never refined to the finest level (no surface was found through them) and received no
+// more votes than the `interior_percentile` of such cells are interior; those with at least the
 // `exterior_percentile`'s votes (and `min_exterior_votes`) are exterior. The rest are free
 // for the cut. Labels are hard constraints, so both are given sparingly.
 

@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "aggregator/hulls/polyhedral_hull.h"
+#include "aggregator/stereo/adaptive_stereo.h"
 #include "aggregator/stereo/model_evaluation.h"
 #include "aggregator/stereo/nearest_point.h"
 #include "aggregator/stereo/stills_folder.h"
@@ -106,6 +107,7 @@ struct Stills {
   std::vector<Eigen::Vector3d> truth, normals;
   double footprint = 0.0;
   WorldBox box;
+  TriangleMesh hull;
 };
 
 Stills MakeStills() {
@@ -129,6 +131,7 @@ Stills MakeStills() {
   EXPECT_TRUE(hull.success) << hull.reason;
   for (const Eigen::Vector3f& v : hull.mesh.vertices)
     out.box.extend(v.cast<double>());
+  out.hull = hull.mesh;
   return out;
 }
 
@@ -252,6 +255,16 @@ TEST(AdaptiveTetMeshTest, CutWithSilhouetteStepReconstructsTheStatue) {
   EXPECT_LT(missed * 10000, inner);
   EXPECT_LE(e.accuracy_footprints, 2.0);
   EXPECT_GE(e.completeness[1].fraction, 0.98);
+}
+
+TEST(AdaptiveStereoTest, CancellationIsAFailureWithAReason) {
+  const Stills& stills = Ring16();
+  Progress progress("stereo", 0);
+  progress.Cancel();
+  const AdaptiveStereoResult result =
+      RunAdaptiveStereo(stills.views.views, stills.hull, stills.footprint, {}, &progress);
+  EXPECT_FALSE(result.success);
+  EXPECT_EQ(result.reason, "cancelled");
 }
 
 }  // namespace
