@@ -79,7 +79,7 @@ AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const
     ids.clear();
     corners.clear();
     for (int32_t cell : cells) {
-      const Tetrahedron& v = mesh.Vertices(cell);
+      const Tetrahedron& v = mesh.Corners(cell);
       for (const auto& f : kFaces) {
         ids.push_back({v[f[0]], v[f[1]], v[f[2]]});
         corners.push_back(
@@ -109,7 +109,7 @@ AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const
       // Faces of this level's refined cells hand their samples down to their halves.
       for (int32_t cell : cells) {
         if (mesh.IsLeaf(cell)) continue;
-        const Tetrahedron& v = mesh.Vertices(cell);
+        const Tetrahedron& v = mesh.Corners(cell);
         for (const auto& f : kFaces) {
           const int32_t a = v[f[0]], b = v[f[1]], c = v[f[2]];
           if (!crossing.Known(SortedFace(a, b, c))) continue;

@@ -37,7 +37,8 @@ class RedGreenMesh {
   const std::vector<Eigen::Vector3d>& Vertices() const { return vertices_; }
   // Every tetrahedron of the tree, refined or not (ids are indices).
   size_t TetrahedronCount() const { return tets_.size(); }
-  const Tetrahedron& Vertices(int32_t tet) const { return tets_[tet].v; }
+  // The corners (vertex ids) of tetrahedron `tet`.
+  const Tetrahedron& Corners(int32_t tet) const { return tets_[tet].v; }
   int Level(int32_t tet) const { return tets_[tet].level; }
   bool IsLeaf(int32_t tet) const { return tets_[tet].first_child < 0; }
   // The leaves, in id order.

@@ -175,7 +175,7 @@ TEST(AdaptiveTetMeshTest, RefinesDownToTheTrueSurfaceOfSimulatedStills) {
   for (int32_t leaf : mesh.Leaves()) {
     if (mesh.Level(leaf) != finest) continue;
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int32_t v : mesh.Vertices(leaf))
+    for (int32_t v : mesh.Corners(leaf))
       c += mesh.Vertices()[v] / 4;
     centroids.push_back(c);
   }

@@ -122,10 +122,10 @@ TEST(RedGreenMesh, RedChildrenAreCongruentAtHalfTheSize) {
   EXPECT_EQ(mesh.Refine({7}), 1u);  // one tetrahedron: its neighbours take green forms
   EXPECT_EQ(mesh.LeafCount(), roots + 7);
   TetMesh view{mesh.Vertices(), {}};
-  const auto parent = SortedEdges(view, mesh.Vertices(7));
+  const auto parent = SortedEdges(view, mesh.Corners(7));
   for (int32_t leaf : mesh.Leaves()) {
     if (mesh.Level(leaf) != 1) continue;
-    const auto child = SortedEdges(view, mesh.Vertices(leaf));
+    const auto child = SortedEdges(view, mesh.Corners(leaf));
     for (int e = 0; e < 6; ++e)
       EXPECT_NEAR(child[e], parent[e] / 2, 1e-12);
   }
@@ -141,7 +141,7 @@ RedGreenMesh RefineAroundSphere(const WorldBox& box, double spacing, int rounds,
     std::vector<int32_t> crossing;
     for (int32_t leaf : mesh.Leaves()) {
       bool inside = false, outside = false;
-      for (int32_t v : mesh.Vertices(leaf)) {
+      for (int32_t v : mesh.Corners(leaf)) {
         const double d = (mesh.Vertices()[v] - centre).norm() - radius;
         (d < 0 ? inside : outside) = true;
       }
@@ -163,7 +163,7 @@ TEST(RedGreenMesh, RefinementAroundASurfaceStaysConforming) {
   TetMesh view{mesh.Vertices(), {}};
   for (int32_t leaf : mesh.Leaves()) {
     const double scale = std::ldexp(h, -mesh.Level(leaf));
-    const auto lengths = SortedEdges(view, mesh.Vertices(leaf));
+    const auto lengths = SortedEdges(view, mesh.Corners(leaf));
     for (int e = 0; e < 6; ++e)
       ASSERT_NEAR(lengths[e], (e < 4 ? std::sqrt(3.0) / 2 : 1.0) * scale, 1e-12);
   }
