@@ -13,6 +13,39 @@ namespace {
 // The four faces of a tetrahedron, each as three corner positions.
 constexpr int kFaces[4][3] = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
 
+// The cells (ids[4 c .. 4 c + 3] their faces) with a crossing face or, if the options say so,
+// a face the hull's surface crosses.
+std::vector<int32_t> ActiveCells(const std::vector<int32_t>& cells,
+                                 const std::vector<std::array<int32_t, 3>>& ids,
+                                 const CrossingFaces& crossing,
+                                 const AdaptiveTetMeshOptions& options) {
+  std::vector<int32_t> active;
+  for (size_t c = 0; c < cells.size(); ++c) {
+    bool crossed = false;
+    for (size_t f = 4 * c; f < 4 * c + 4 && !crossed; ++f) {
+      const FaceSamples counts = crossing.Counts(SortedFace(ids[f][0], ids[f][1], ids[f][2]));
+      crossed =
+          crossing.Crossing(counts) || (options.refine_hull_surface && counts.OnHullSurface());
+    }
+    if (crossed) active.push_back(cells[c]);
+  }
+  return active;
+}
+
+// The sampled faces of the cells that were refined hand their samples down to their halves.
+void HandDownSamples(const RedGreenMesh& mesh, const std::vector<int32_t>& cells,
+                     CrossingFaces* crossing) {
+  for (int32_t cell : cells) {
+    if (mesh.IsLeaf(cell)) continue;
+    const Tetrahedron& v = mesh.Corners(cell);
+    for (const auto& f : kFaces) {
+      const int32_t a = v[f[0]], b = v[f[1]], c = v[f[2]];
+      if (!crossing->Known(SortedFace(a, b, c))) continue;
+      crossing->Inherit(a, b, c, mesh.Midpoint(a, b), mesh.Midpoint(b, c), mesh.Midpoint(c, a));
+    }
+  }
+}
+
 }  // namespace
 
 bool AdaptiveTetMeshOptions::IsValid(std::string* reason) const {
@@ -92,31 +125,10 @@ AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const
     stats.faces_sampled = crossing.SampledFaces() - sampled_before;
     stats.samples_scored = crossing.SamplesScored() - scored_before;
 
-    std::vector<int32_t> active;
-    for (size_t c = 0; c < cells.size(); ++c) {
-      bool crossed = false;
-      for (int f = 0; f < 4 && !crossed; ++f) {
-        const auto& face = ids[4 * c + static_cast<size_t>(f)];
-        const FaceSamples counts = crossing.Counts(SortedFace(face[0], face[1], face[2]));
-        crossed =
-            crossing.Crossing(counts) || (options.refine_hull_surface && counts.OnHullSurface());
-      }
-      if (crossed) active.push_back(cells[c]);
-    }
+    const std::vector<int32_t> active = ActiveCells(cells, ids, crossing, options);
     stats.active_cells = active.size();
-    {
-      stats.refined_cells = mesh.Refine(active);
-      // Faces of this level's refined cells hand their samples down to their halves.
-      for (int32_t cell : cells) {
-        if (mesh.IsLeaf(cell)) continue;
-        const Tetrahedron& v = mesh.Corners(cell);
-        for (const auto& f : kFaces) {
-          const int32_t a = v[f[0]], b = v[f[1]], c = v[f[2]];
-          if (!crossing.Known(SortedFace(a, b, c))) continue;
-          crossing.Inherit(a, b, c, mesh.Midpoint(a, b), mesh.Midpoint(b, c), mesh.Midpoint(c, a));
-        }
-      }
-    }
+    stats.refined_cells = mesh.Refine(active);
+    HandDownSamples(mesh, cells, &crossing);
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     spdlog::info(
         "adaptive mesh level {} ({:.2f} mm): {} cells, {} faces sampled ({} samples), {} active, "

@@ -10,17 +10,13 @@
 #include <cstdio>
 #include <numbers>
 
-#include "aggregator/hulls/polyhedral_hull.h"
 #include "aggregator/stereo/adaptive_stereo.h"
 #include "aggregator/stereo/model_evaluation.h"
 #include "aggregator/stereo/nearest_point.h"
-#include "aggregator/stereo/stills_folder.h"
 #include "aggregator/stereo/tet_cell_labels.h"
 #include "aggregator/stereo/tet_graph_cut.h"
 #include "aggregator/stereo/tet_silhouette_step.h"
-#include "shared/io/point_cloud_ply.h"
-#include "sim/stills_generator.h"
-#include "tests/support/temp_dir.h"
+#include "tests/aggregator/stereo/simulated_stills.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -101,37 +97,15 @@ TEST(PatchPhotoConsistencyTest, OptionsAreValidated) {
   EXPECT_FALSE(mesh.IsValid(&reason));
 }
 
-// Simulated stills of the statue (a ring of 16 cameras, 480x360), with the true surface.
-struct Stills {
-  StereoViews views;
-  std::vector<Eigen::Vector3d> truth, normals;
-  double footprint = 0.0;
+// Simulated stills of the statue (a ring of 16 cameras, 480x360) with the box of their hull.
+struct Stills : testing::SimulatedStills {
   WorldBox box;
-  TriangleMesh hull;
 };
 
 Stills MakeStills() {
-  silnet::testing::TempDir dir("silnet-adaptive");
-  sim::StillsOptions options;
-  options.network.cameras = 16;
-  options.network.width = 480;
-  options.network.height = 360;
-  options.seed = 3;
-  options.overwrite = true;
-  const sim::StillsSummary summary = sim::GenerateStills(options, dir.path(), nullptr);
-  Stills out;
-  out.footprint = summary.footprint;
-  out.views = LoadStillsFolder(dir.path(), dir.path() / "calibration.yaml");
-  const OrientedPointCloud cloud = ReadPointCloudPly(dir.path() / "gt_surface.ply");
-  for (size_t k = 0; k < cloud.points.size(); ++k) {
-    out.truth.push_back(cloud.points[k].cast<double>());
-    out.normals.push_back(cloud.normals[k].cast<double>().normalized());
-  }
-  const PolyhedralHullResult hull = ComputePolyhedralHull(out.views.Cameras(), out.views.Masks());
-  EXPECT_TRUE(hull.success) << hull.reason;
-  for (const Eigen::Vector3f& v : hull.mesh.vertices)
+  Stills out{testing::MakeSimulatedStills(16, 480, 360, 3), {}};
+  for (const Eigen::Vector3f& v : out.hull.vertices)
     out.box.extend(v.cast<double>());
-  out.hull = hull.mesh;
   return out;
 }
 

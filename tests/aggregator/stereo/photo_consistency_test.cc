@@ -14,14 +14,10 @@
 #include <set>
 
 #include "aggregator/hulls/mesh_measure.h"
-#include "aggregator/hulls/polyhedral_hull.h"
-#include "aggregator/stereo/stills_folder.h"
-#include "shared/io/point_cloud_ply.h"
 #include "shared/util/check.h"
 #include "sim/camera_network.h"
-#include "sim/stills_generator.h"
+#include "tests/aggregator/stereo/simulated_stills.h"
 #include "tests/aggregator/stereo/vote_evaluation.h"
-#include "tests/support/temp_dir.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -158,39 +154,9 @@ TEST(PhotoConsistencyTest, OptionsAreValidated) {
   EXPECT_FALSE(result.reason.empty());
 }
 
-// Simulated stills of the statue loaded as the stereo job would, with the polyhedral hull and
-// the true surface.
-struct StillsCase {
-  StereoViews views;
-  TriangleMesh hull;
-  std::vector<Eigen::Vector3d> truth;
-  double footprint = 0.0;
-};
-
-StillsCase MakeStills(int cameras, int width, int height, uint64_t seed) {
-  silnet::testing::TempDir dir("silnet-photo");
-  sim::StillsOptions options;
-  options.network.cameras = cameras;
-  options.network.width = width;
-  options.network.height = height;
-  options.seed = seed;
-  options.overwrite = true;
-  const sim::StillsSummary summary = sim::GenerateStills(options, dir.path(), nullptr);
-  StillsCase out;
-  out.footprint = summary.footprint;
-  out.views = LoadStillsFolder(dir.path(), dir.path() / "calibration.yaml");
-  const OrientedPointCloud cloud = ReadPointCloudPly(dir.path() / "gt_surface.ply");
-  for (const Eigen::Vector3f& p : cloud.points)
-    out.truth.push_back(p.cast<double>());
-  const PolyhedralHullResult hull = ComputePolyhedralHull(out.views.Cameras(), out.views.Masks());
-  EXPECT_TRUE(hull.success) << hull.reason;
-  out.hull = hull.mesh;
-  return out;
-}
-
 // The ring of 16 cameras at 640x480, made once.
-const StillsCase& Ring16() {
-  static const StillsCase ring = MakeStills(16, 640, 480, 1);
+const testing::SimulatedStills& Ring16() {
+  static const testing::SimulatedStills ring = testing::MakeSimulatedStills(16, 640, 480, 1);
   return ring;
 }
 
@@ -198,7 +164,7 @@ const StillsCase& Ring16() {
 // where the hull fills a concavity (its surface >= 4 cells from the truth on that ray), the
 // ray's maximum is at the truth, not at the hull.
 TEST(PhotoConsistencyTest, VotesLieOnTheTrueSurfaceOfSimulatedStills) {
-  const StillsCase& ring = Ring16();
+  const testing::SimulatedStills& ring = Ring16();
   const PhotoConsistencyResult result = ComputePhotoConsistency(ring.views.views, ring.hull);
   ASSERT_TRUE(result.success) << result.reason;
   EXPECT_TRUE(result.warnings.empty());
@@ -258,7 +224,7 @@ TEST(PhotoConsistencyTest, VotesLieOnTheTrueSurfaceOfSimulatedStills) {
 
 // The votes do not depend on the number of threads or the order of the work items.
 TEST(PhotoConsistencyTest, VotesAreDeterministic) {
-  const StillsCase& ring = Ring16();
+  const testing::SimulatedStills& ring = Ring16();
   PhotoConsistencyOptions options;
   options.pixel_step = 4;
   options.weight_by_ncc = true;
@@ -274,7 +240,7 @@ TEST(PhotoConsistencyTest, VotesAreDeterministic) {
 }
 
 TEST(PhotoConsistencyTest, CancellationIsAFailureWithAReason) {
-  const StillsCase& ring = Ring16();
+  const testing::SimulatedStills& ring = Ring16();
   Progress progress("test", 0);
   progress.Cancel();
   const PhotoConsistencyResult result =
