@@ -36,11 +36,22 @@ std::string JobSummary(const StereoJobConfig& config, const StereoJobResult& res
   HtmlTable table(std::vector<std::string>{});
   table.AddRow({"pixel footprint at the object",
                 result.footprint > 0 ? fmt::format("{:.3f} mm", result.footprint * 1e3) : kNone});
-  table.AddRow({"vote lattice",
-                result.cell_size > 0
-                    ? fmt::format("{} cells of {:.3f} mm", fmt::join(result.lattice_dims, " x "),
-                                  result.cell_size * 1e3)
-                    : kNone});
+  table.AddRow(
+      {"method", config.method == StereoMethod::kAdaptive
+                     ? "adaptive tetrahedral graph cut (thesis ch. 7)"
+                     : "votes on a uniform lattice, volumetric graph cut (thesis ch. 5-6)"});
+  if (result.adaptive) {
+    table.AddRow(
+        {"adaptive mesh",
+         fmt::format("{} tetrahedra, finest cubes of {:.3f} mm, {} levels", result.adaptive->cells,
+                     result.adaptive->finest_spacing * 1e3, result.adaptive->levels.size())});
+  } else {
+    table.AddRow({"vote lattice",
+                  result.cell_size > 0
+                      ? fmt::format("{} cells of {:.3f} mm", fmt::join(result.lattice_dims, " x "),
+                                    result.cell_size * 1e3)
+                      : kNone});
+  }
   table.AddRow({"total time", fmt::format("{:.1f} s", result.seconds.total)});
   html += table.ToHtml();
   if (!result.warnings.empty()) {
