@@ -2,34 +2,14 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <limits>
 
 #include "aggregator/hulls/hull_reprojection.h"
+#include "aggregator/stereo/lattice_ray.h"
 #include "aggregator/stereo/model_evaluation.h"
 #include "shared/util/check.h"
 
 namespace silnet::aggregator {
 namespace {
-
-// The parameter range [near, far] of the ray centre + s * direction inside `box`; empty if
-// the ray misses it.
-bool ClipToBox(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& centre,
-               const Eigen::Vector3d& direction, double* near, double* far) {
-  *near = 0;
-  *far = std::numeric_limits<double>::infinity();
-  for (int a = 0; a < 3; ++a) {
-    if (std::abs(direction[a]) < 1e-15) {
-      if (centre[a] < box.min()[a] || centre[a] > box.max()[a]) return false;
-      continue;
-    }
-    double t0 = (box.min()[a] - centre[a]) / direction[a];
-    double t1 = (box.max()[a] - centre[a]) / direction[a];
-    if (t0 > t1) std::swap(t0, t1);
-    *near = std::max(*near, t0);
-    *far = std::min(*far, t1);
-  }
-  return *near <= *far;
-}
 
 // The cell at the middle of the ray's first stretch of cells not labelled exterior, or -1.
 int32_t MiddleOfFirstStretch(const TetPointLocator& locator, const std::vector<CellLabel>& labels,
@@ -84,10 +64,10 @@ TetSilhouetteStats EnforceSilhouettesOnTets(TetGraphCut* cut, const TetMesh& mes
           if (y % stride != 0 || x % stride != 0) continue;
           const Eigen::Vector3d direction =
               (camera.R.transpose() * camera.PixelRay(Eigen::Vector2d(x, y))).normalized();
-          double near = 0, far = 0;
-          if (!ClipToBox(box, centre, direction, &near, &far)) continue;
-          const int32_t cell =
-              MiddleOfFirstStretch(locator, labels, centre, direction, near, far, options.ray_step);
+          const auto range = ClipRay(box, centre, direction);
+          if (!range) continue;
+          const int32_t cell = MiddleOfFirstStretch(locator, labels, centre, direction,
+                                                    range->first, range->second, options.ray_step);
           if (cell >= 0) force.push_back(cell);
         }
       }
