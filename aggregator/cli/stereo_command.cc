@@ -20,6 +20,7 @@ struct StereoArgs {
   int silhouette_rounds = StereoGraphCutDefaults().silhouette_rounds;
   int threads = 0;
   std::string method = "uniform";
+  int refine_iterations = SurfaceRefinementOptions{}.iterations;
 };
 
 void PrintEvaluation(const char* name, const StereoMeshSummary& mesh) {
@@ -40,6 +41,7 @@ int RunStereo(const StereoArgs& args) {
   config.graph_cut.silhouette_rounds = args.silhouette_rounds;
   config.threads = args.threads;
   config.method = args.method == "adaptive" ? StereoMethod::kAdaptive : StereoMethod::kUniform;
+  config.refinement.iterations = args.refine_iterations;
   const auto run =
       RunWithProgress("stereo", [&](Progress* progress) { return RunStereoJob(config, progress); });
   if (!run) return 130;
@@ -64,6 +66,7 @@ int PrintStereoResult(const StereoJobResult& result, const std::string& out) {
         result.model.CoveredOuter(), result.seconds.total, result.seconds.hull,
         result.seconds.graph_cut, out.c_str());
     PrintEvaluation("model", result.model);
+    PrintEvaluation("graph-cut surface", result.cut);
     PrintEvaluation("visual hull", result.hull);
     return 0;
   }
@@ -76,6 +79,7 @@ int PrintStereoResult(const StereoJobResult& result, const std::string& out) {
       result.model.MissedInner(), result.model.CoveredOuter(), result.seconds.total,
       result.seconds.hull, result.seconds.photo_consistency, result.seconds.graph_cut, out.c_str());
   PrintEvaluation("model", result.model);
+  PrintEvaluation("graph-cut surface", result.cut);
   PrintEvaluation("visual hull", result.hull);
   return 0;
 }
@@ -108,6 +112,11 @@ Command AddStereoCommand(CLI::App& app) {
   cmd->add_option("--silhouette-rounds", args->silhouette_rounds,
                   "silhouette steps: re-cuts that cover the silhouette pixels the model misses "
                   "(0 = the plain cut)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--refine-iterations", args->refine_iterations,
+                  "local refinement of the cut's surface by texture and silhouette forces "
+                  "(thesis 7.4.3; 0 = the graph cut's surface as it is)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "threads (0 = all cores)")->capture_default_str();

@@ -52,6 +52,13 @@ std::string JobSummary(const StereoJobConfig& config, const StereoJobResult& res
                                     result.cell_size * 1e3)
                       : kNone});
   }
+  if (result.refinement) {
+    const SurfaceRefinementStats& r = *result.refinement;
+    table.AddRow({"local refinement (thesis 7.4.3)",
+                  fmt::format("{} iterations, {} vertices to {}, mean move {:.2f} mm, {:.1f} s",
+                              config.refinement.iterations, r.vertices_in, r.vertices,
+                              r.mean_shift * 1e3, r.seconds)});
+  }
   table.AddRow({"total time", fmt::format("{:.1f} s", result.seconds.total)});
   html += table.ToHtml();
   if (!result.warnings.empty()) {
@@ -102,6 +109,12 @@ std::string RegionTables(const StereoJobResult& result) {
     HtmlTable table({"mesh", "accuracy (90 %)", "completeness"});
     table.AddRow({"model", AccuracyText(model.accuracy_m, model.accuracy_footprints),
                   CompletenessText(model.completeness)});
+    if (result.cut.evaluation) {
+      if (const RegionEvaluation* cut = result.cut.evaluation->Region(model.name)) {
+        table.AddRow({"graph-cut surface", AccuracyText(cut->accuracy_m, cut->accuracy_footprints),
+                      CompletenessText(cut->completeness)});
+      }
+    }
     if (hull != nullptr) {
       table.AddRow({"visual hull", AccuracyText(hull->accuracy_m, hull->accuracy_footprints),
                     CompletenessText(hull->completeness)});
@@ -130,6 +143,7 @@ std::string MeshTable(const StereoJobResult& result) {
         m.closed_manifold ? "" : "bad");
   };
   add("model", result.model);
+  add("graph-cut surface (before refinement)", result.cut);
   add("visual hull", result.hull);
   return table.ToHtml("no mesh") + RegionTables(result) +
          Paragraph(
@@ -149,6 +163,7 @@ std::string StageTable(const StereoJobResult& result) {
       {"visual hull", s.hull},
       {"photo-consistency", s.photo_consistency},
       {"graph cut", s.graph_cut},
+      {"refinement", s.refinement},
       {"evaluation", s.evaluation},
       {"pictures", s.pictures},
       {"total", s.total}};

@@ -7,7 +7,8 @@
 //   silhouettes  cells forced inside for missed silhouette pixels, the cut updated
 //                (tet_silhouette_step.h)
 //   surface      the interior's boundary made manifold and smoothed (tet_surface.h)
-// Not built yet: the local refinement of the surface (7.4.3).
+// The local refinement of the surface (7.4.3) follows in the stereo job, for either method
+// (surface_refinement.h).
 
 #include <cstddef>
 #include <string>

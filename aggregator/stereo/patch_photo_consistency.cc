@@ -274,4 +274,25 @@ PatchScore PatchScorer::Plane(const Eigen::Vector3d& x, const Eigen::Vector3d& n
   return Score(s.offsets, s.chosen);
 }
 
+std::vector<float> PatchScorer::AlongNormal(const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
+                                            const Eigen::Vector3d& u, const Eigen::Vector3d& v,
+                                            double step, double curvature,
+                                            const std::vector<double>& shifts) const {
+  Scratch& s = ThreadScratch();
+  ProjectAll(views_, x, &s.projected);
+  ChooseViews(normal, &s.chosen);
+  const int half = options_.mu / 2;
+  std::vector<float> scores;
+  scores.reserve(shifts.size());
+  for (double shift : shifts) {
+    s.offsets.clear();
+    for (int j = -half; j <= half; ++j)
+      for (int i = -half; i <= half; ++i)
+        s.offsets.push_back((shift - 0.5 * curvature * step * step * (i * i + j * j)) * normal +
+                            step * (i * u + j * v));
+    scores.push_back(Score(s.offsets, s.chosen).score);
+  }
+  return scores;
+}
+
 }  // namespace silnet::aggregator

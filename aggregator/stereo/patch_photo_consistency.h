@@ -70,6 +70,16 @@ class PatchScorer {
   PatchScore Plane(const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
                    const Eigen::Vector3d& u, const Eigen::Vector3d& v, double step) const;
 
+  // The scores of the patch at X (as Plane, but bent to a sphere of curvature `curvature`,
+  // 1/metres, positive when it bulges towards the normal) moved along its normal to
+  // X + d * normal for each d in `shifts` (metres, a few footprints at most: the projection
+  // stays linearised at X), all in the views chosen at X, so the scores differ by the patch's
+  // place only. (A plane patch on a curved surface scores best where it cuts the surface,
+  // r^2 / 4R inside it: over a thin limb that is a footprint.)
+  std::vector<float> AlongNormal(const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
+                                 const Eigen::Vector3d& u, const Eigen::Vector3d& v, double step,
+                                 double curvature, const std::vector<double>& shifts) const;
+
   const PatchOptions& options() const { return options_; }
 
  private:

@@ -208,6 +208,11 @@ bool StereoJobConfig::IsValid(std::string* reason) const {
     *reason = "graph cut: " + cut;
     return false;
   }
+  std::string refine;
+  if (!refinement.IsValid(&refine)) {
+    *reason = "refinement: " + refine;
+    return false;
+  }
   return true;
 }
 
@@ -218,6 +223,7 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   StereoJobResult result;
   std::filesystem::create_directories(config.output);
   std::filesystem::remove(config.output / "model.ply");
+  std::filesystem::remove(config.output / "cut.ply");
   std::filesystem::remove_all(config.output / "views");
   const auto finish = [&]() {
     result.seconds.total = SecondsSince(start);
@@ -294,17 +300,46 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
     return finish();
   }
 
+  // Refinement.
+  TriangleMesh cut_surface;  // stays empty without refinement
+  if (config.refinement.iterations > 0) {
+    stage = Clock::now();
+    SurfaceRefinementOptions refine = config.refinement;
+    refine.threads = config.threads;
+    const PatchScorer scorer(views.views, config.adaptive.mesh.patch);
+    SurfaceRefinementStats refined_stats;
+    TriangleMesh refined = RefineSurface(model_surface, views.views, scorer, result.footprint,
+                                         refine, &refined_stats, progress);
+    result.refinement = refined_stats;
+    result.seconds.refinement = SecondsSince(stage);
+    if (Cancelled(progress, &result)) return finish();
+    result.cut = result.model;
+    result.cut.file = "cut.ply";
+    cut_surface = std::move(model_surface);
+    model_surface = std::move(refined);
+    result.model = Summarise(model_surface);
+    if (!result.model.closed_manifold) {
+      result.reason = "refinement: the surface is not a closed manifold (" +
+                      CheckClosedManifold(model_surface).reason + ")";
+      return finish();
+    }
+  }
+
   // Evaluation.
   stage = Clock::now();
   if (progress) progress->Restart("evaluation", 2);
   result.hull.views = MeasureSilhouetteConsistency(hull.mesh, views.views);
   result.model.views = MeasureSilhouetteConsistency(model_surface, views.views);
+  if (!cut_surface.triangles.empty())
+    result.cut.views = MeasureSilhouetteConsistency(cut_surface, views.views);
   if (progress) progress->Advance();
   if (truth && result.footprint > 0) {
     StereoTruthEvaluation measured =
-        EvaluateAgainstTruth(hull.mesh, model_surface, *truth, result.footprint, views.views);
+        EvaluateAgainstTruth(hull.mesh, model_surface, *truth, result.footprint, views.views,
+                             cut_surface.triangles.empty() ? nullptr : &cut_surface);
     result.hull.evaluation = std::move(measured.hull);
     result.model.evaluation = std::move(measured.model);
+    result.cut.evaluation = std::move(measured.cut);
   }
   if (progress) progress->Advance();
   result.seconds.evaluation = SecondsSince(stage);
@@ -312,6 +347,8 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
 
   result.model.file = "model.ply";
   WritePlyMesh((config.output / result.model.file).string(), model_surface);
+  if (!cut_surface.triangles.empty())
+    WritePlyMesh((config.output / result.cut.file).string(), cut_surface);
 
   // Pictures.
   stage = Clock::now();

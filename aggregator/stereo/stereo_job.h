@@ -12,6 +12,8 @@
 //                      constraints of 6.6-6.7 are not built yet. With --method adaptive the
 //                      photo-consistency and graph cut stages are the adaptive tetrahedral
 //                      stereo of ch. 7 instead (adaptive_stereo.h; no vote lattice)
+//   refinement         the cut's surface deformed by texture and silhouette forces and
+//                      remeshed (surface_refinement.h, 7.4.3), for either method
 //   evaluation         per view silhouette consistency of model and hull (model_evaluation.h)
 //                      and, when the folder has gt_surface.ply (simulated stills), accuracy
 //                      and completeness of model and hull against it, over the whole surface
@@ -21,6 +23,7 @@
 // Output in OUT (created if missing):
 //   model.ply    the model, binary PLY (ply_io.h), written only if it is closed and manifold
 //   hull.ply     the visual hull the model was cut from
+//   cut.ply      the graph cut's surface, when the model is its refinement
 //   stereo.yaml  settings, lattice and graph sizes, time per stage, per view silhouette
 //                figures, the measures against the truth; written also after a failure,
 //                with its reason
@@ -41,6 +44,7 @@
 #include "aggregator/stereo/model_evaluation.h"
 #include "aggregator/stereo/photo_consistency.h"
 #include "aggregator/stereo/stereo_truth.h"
+#include "aggregator/stereo/surface_refinement.h"
 #include "aggregator/stereo/volumetric_graph_cut.h"
 #include "shared/geometry/camera_model.h"
 #include "shared/util/progress.h"
@@ -72,8 +76,9 @@ struct StereoJobConfig {
   PhotoConsistencyOptions photo_consistency;  // threads set by `threads`
   VolumetricGraphCutOptions graph_cut = StereoGraphCutDefaults();
   StereoMethod method = StereoMethod::kUniform;
-  AdaptiveStereoOptions adaptive;  // with kAdaptive (threads set by `threads`)
-  int threads = 0;                 // 0 = all cores
+  AdaptiveStereoOptions adaptive;       // with kAdaptive (threads set by `threads`)
+  SurfaceRefinementOptions refinement;  // of either method's cut; 0 iterations: none
+  int threads = 0;                      // 0 = all cores
 
   // True if the settings make sense; otherwise false with a reason.
   bool IsValid(std::string* reason) const;
@@ -81,8 +86,8 @@ struct StereoJobConfig {
 
 // Seconds per stage.
 struct StereoStageTimes {
-  double load = 0, hull = 0, photo_consistency = 0, graph_cut = 0, evaluation = 0, pictures = 0,
-         total = 0;
+  double load = 0, hull = 0, photo_consistency = 0, graph_cut = 0, refinement = 0, evaluation = 0,
+         pictures = 0, total = 0;
 };
 
 // A mesh's figures in stereo.yaml.
@@ -108,11 +113,13 @@ struct StereoJobResult {
   std::vector<std::string> warnings;  // the loader's and the stages'
   double footprint = 0;  // pixel footprint at the object, metres (the truth's, else estimated)
   StereoMeshSummary hull, model;
+  StereoMeshSummary cut;  // the graph cut's surface when the model is its refinement
   PhotoConsistencyStats photo_consistency;
-  std::array<int, 3> lattice_dims = {0, 0, 0};  // vote lattice cells along x, y, z
-  double cell_size = 0;                         // metres
-  VolumetricGraphCutStats graph_cut;            // kUniform
-  std::optional<AdaptiveStereoStats> adaptive;  // kAdaptive
+  std::array<int, 3> lattice_dims = {0, 0, 0};       // vote lattice cells along x, y, z
+  double cell_size = 0;                              // metres
+  VolumetricGraphCutStats graph_cut;                 // kUniform
+  std::optional<AdaptiveStereoStats> adaptive;       // kAdaptive
+  std::optional<SurfaceRefinementStats> refinement;  // when the cut was refined
   StereoStageTimes seconds;
   std::vector<std::string> view_pictures;  // views/<camera>.png, relative to the output folder
 };
@@ -124,7 +131,7 @@ inline constexpr int kViewPicturePanelWidth = 480;
 // LoadMiddlebury) rejects (unreadable calibration, a camera without any silhouette source,
 // too few views), and if an output file cannot be written. `progress` (may be null) gets one
 // stage after the other ("load", "visual hull", "photo-consistency", "graph cut",
-// "evaluation", "pictures") and is polled for cancellation between and within stages.
+// "refinement", "evaluation", "pictures") and is polled for cancellation between and within stages.
 StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress);
 
 // Writes OUT/stereo.yaml for `result` (config.output is OUT). Throws InputError if it cannot

@@ -95,6 +95,19 @@ void WriteAdaptive(cv::FileStorage& fs, const AdaptiveStereoStats& a) {
      << "}";
 }
 
+// The local refinement's settings and figures.
+void WriteRefinement(cv::FileStorage& fs, const SurfaceRefinementOptions& o,
+                     const SurfaceRefinementStats& r) {
+  fs << "refinement"
+     << "{"
+     << "iterations" << o.iterations << "search_footprints" << o.search_footprints << "min_score"
+     << o.min_score << "max_edge_px" << o.max_edge_px << "vertices_in" << AsInt(r.vertices_in)
+     << "vertices" << AsInt(r.vertices) << "edges_split" << AsInt(r.split_edges)
+     << "textured_vertices" << AsInt(r.textured) << "rim_vertices" << AsInt(r.rims)
+     << "mean_shift_mm" << r.mean_shift * 1e3 << "vertices_restored" << AsInt(r.restored)
+     << "pixels_still_uncovered" << AsInt(r.still_uncovered) << "seconds" << r.seconds << "}";
+}
+
 }  // namespace
 
 void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& result) {
@@ -108,7 +121,7 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
   if (!result.success) fs << "reason" << result.reason;
   if (config.method == StereoMethod::kAdaptive) {
     fs << "method"
-       << "adaptive tetrahedral graph cut (thesis 7.3-7.4.2, without the local refinement)";
+       << "adaptive tetrahedral graph cut (thesis 7.3-7.4.2)";
   } else {
     fs << "method"
        << fmt::format("volumetric graph cut (thesis 5.4.1){}",
@@ -152,10 +165,12 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
   fs << "seconds"
      << "{"
      << "load" << s.load << "hull" << s.hull << "photo_consistency" << s.photo_consistency
-     << "graph_cut" << s.graph_cut << "evaluation" << s.evaluation << "pictures" << s.pictures
-     << "total" << s.total << "}";
+     << "graph_cut" << s.graph_cut << "refinement" << s.refinement << "evaluation" << s.evaluation
+     << "pictures" << s.pictures << "total" << s.total << "}";
   WriteMesh(fs, "hull", result.hull);
   WriteMesh(fs, "model", result.model);
+  if (result.cut.triangles > 0) WriteMesh(fs, "cut", result.cut);
+  if (result.refinement) WriteRefinement(fs, config.refinement, *result.refinement);
   fs << "silhouettes"
      << "[";
   for (size_t v = 0; v < result.model.views.size(); ++v) {

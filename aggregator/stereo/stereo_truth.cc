@@ -65,7 +65,8 @@ ModelEvaluationOptions StereoEvaluationOptions(const StereoTruth& truth, double 
 
 StereoTruthEvaluation EvaluateAgainstTruth(const TriangleMesh& hull, const TriangleMesh& model,
                                            const StereoTruth& truth, double footprint,
-                                           const std::vector<StereoView>& views) {
+                                           const std::vector<StereoView>& views,
+                                           const TriangleMesh* cut) {
   const ModelEvaluationOptions options = StereoEvaluationOptions(truth, footprint);
   StereoTruthEvaluation result;
   ModelDistances to_hull;
@@ -75,6 +76,7 @@ StereoTruthEvaluation EvaluateAgainstTruth(const TriangleMesh& hull, const Trian
   for (const SurfaceRegion& region : regions)
     result.hull.regions.push_back(EvaluateRegion(region, to_hull, options));
   result.model = EvaluateModel(model, truth.points, truth.normals, options, regions);
+  if (cut) result.cut = EvaluateModel(*cut, truth.points, truth.normals, options, regions);
   return result;
 }
 

@@ -39,11 +39,14 @@ ModelEvaluationOptions StereoEvaluationOptions(const StereoTruth& truth, double 
 // Accuracy and completeness against the truth of the visual hull and of the model cut from
 // it, each over the whole true surface and over its concave and T-junction regions. The
 // concave region comes from the hull's own distances, so the hull is measured once.
+// `cut`, when given, is measured as the model is.
 struct StereoTruthEvaluation {
   ModelEvaluation hull, model;
+  std::optional<ModelEvaluation> cut;
 };
 StereoTruthEvaluation EvaluateAgainstTruth(const TriangleMesh& hull, const TriangleMesh& model,
                                            const StereoTruth& truth, double footprint,
-                                           const std::vector<StereoView>& views);
+                                           const std::vector<StereoView>& views,
+                                           const TriangleMesh* cut = nullptr);
 
 }  // namespace silnet::aggregator

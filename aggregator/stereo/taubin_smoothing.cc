@@ -7,15 +7,8 @@
 #include "shared/util/check.h"
 
 namespace silnet::aggregator {
-namespace {
 
-// Each vertex's distinct neighbours along mesh edges, as offsets into one array (CSR).
-struct Neighbours {
-  std::vector<size_t> begin;  // vertices + 1 entries
-  std::vector<int32_t> ids;
-};
-
-Neighbours VertexNeighbours(const TriangleMesh& mesh) {
+VertexNeighbours FindVertexNeighbours(const TriangleMesh& mesh) {
   std::vector<std::pair<int32_t, int32_t>> pairs;
   pairs.reserve(mesh.triangles.size() * 6);
   for (const auto& t : mesh.triangles) {
@@ -27,7 +20,7 @@ Neighbours VertexNeighbours(const TriangleMesh& mesh) {
   }
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  Neighbours n;
+  VertexNeighbours n;
   n.begin.assign(mesh.vertices.size() + 1, 0);
   for (const auto& p : pairs)
     ++n.begin[static_cast<size_t>(p.first) + 1];
@@ -39,8 +32,10 @@ Neighbours VertexNeighbours(const TriangleMesh& mesh) {
   return n;
 }
 
+namespace {
+
 // One Laplacian step of weight `w` (umbrella operator), each vertex then clamped to its box.
-void LaplacianStep(const Neighbours& n, double w, const std::vector<Eigen::Vector3f>& lo,
+void LaplacianStep(const VertexNeighbours& n, double w, const std::vector<Eigen::Vector3f>& lo,
                    const std::vector<Eigen::Vector3f>& hi, std::vector<Eigen::Vector3f>& v) {
   std::vector<Eigen::Vector3f> next(v.size());
   for (size_t i = 0; i < v.size(); ++i) {
@@ -64,7 +59,7 @@ void TaubinSmooth(TriangleMesh* mesh, int iterations, double lambda, double mu,
                   const std::vector<Eigen::Vector3f>& lo, const std::vector<Eigen::Vector3f>& hi) {
   SILNET_CHECK(lo.size() == mesh->vertices.size() && hi.size() == mesh->vertices.size());
   if (iterations <= 0 || mesh->vertices.empty()) return;
-  const Neighbours neighbours = VertexNeighbours(*mesh);
+  const VertexNeighbours neighbours = FindVertexNeighbours(*mesh);
   for (int it = 0; it < iterations; ++it) {
     LaplacianStep(neighbours, lambda, lo, hi, mesh->vertices);
     LaplacianStep(neighbours, mu, lo, hi, mesh->vertices);

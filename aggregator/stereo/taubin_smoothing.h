@@ -7,11 +7,23 @@
 // stays one.
 
 #include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "aggregator/hulls/triangle_mesh.h"
 
 namespace silnet::aggregator {
+
+// Each vertex's distinct neighbours along mesh edges, as offsets into one array (CSR):
+// vertex i's are ids[begin[i]] .. ids[begin[i + 1] - 1].
+struct VertexNeighbours {
+  std::vector<size_t> begin;  // vertices + 1 entries
+  std::vector<int32_t> ids;
+};
+
+// The neighbours of every vertex of `mesh`.
+VertexNeighbours FindVertexNeighbours(const TriangleMesh& mesh);
 
 // Smooths `mesh` in place: `iterations` lambda|mu pairs, vertex i clamped to [lo[i], hi[i]]
 // after every step (lo, hi as long as the vertices; CheckError otherwise).
