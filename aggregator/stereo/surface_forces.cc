@@ -7,7 +7,6 @@
 #include <opencv2/core.hpp>
 
 #include "aggregator/hulls/silhouette_interpolation.h"
-#include "aggregator/stereo/taubin_smoothing.h"
 #include "shared/util/check.h"
 #include "shared/util/parallel_for.h"
 
@@ -48,10 +47,10 @@ std::vector<Eigen::Vector3d> VertexNormals(const TriangleMesh& mesh) {
   return normals;
 }
 
-std::vector<double> VertexCurvatures(const TriangleMesh& mesh,
+std::vector<double> VertexCurvatures(const TriangleMesh& mesh, const VertexNeighbours& neighbours,
                                      const std::vector<Eigen::Vector3d>& normals, int rounds) {
   SILNET_CHECK(normals.size() == mesh.vertices.size());
-  const VertexNeighbours neighbours = FindVertexNeighbours(mesh);
+  SILNET_CHECK(neighbours.begin.size() == mesh.vertices.size() + 1);
   std::vector<double> curvature(mesh.vertices.size(), 0.0);
   for (size_t i = 0; i < mesh.vertices.size(); ++i) {
     double sum = 0;
@@ -83,7 +82,8 @@ std::vector<NormalOffset> TextureForces(const TriangleMesh& mesh,
                                         const std::vector<Eigen::Vector3d>& normals,
                                         const std::vector<double>& curvatures,
                                         const PatchScorer& scorer,
-                                        const TextureForceOptions& options, int threads) {
+                                        const TextureForceOptions& options, int threads,
+                                        const std::vector<uint8_t>& skip) {
   SILNET_CHECK(options.range > 0 && options.step > 0 && options.patch_step > 0);
   SILNET_CHECK(normals.size() == mesh.vertices.size());
   SILNET_CHECK(curvatures.size() == mesh.vertices.size());
@@ -95,7 +95,7 @@ std::vector<NormalOffset> TextureForces(const TriangleMesh& mesh,
   std::vector<NormalOffset> forces(mesh.vertices.size());
   ParallelFor(mesh.vertices.size(), threads, [&](size_t i) {
     const Eigen::Vector3d& n = normals[i];
-    if (n.isZero()) return;
+    if (n.isZero() || (!skip.empty() && skip[i] != 0)) return;
     const Eigen::Vector3d x = mesh.vertices[i].cast<double>();
     const Eigen::Vector3d u = n.unitOrthogonal(), v = n.cross(u);
     const std::vector<float> scores =

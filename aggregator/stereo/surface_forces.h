@@ -14,12 +14,14 @@
 // Normals are the area-weighted means of the faces around each vertex.
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <opencv2/core/mat.hpp>
 #include <vector>
 
 #include "aggregator/hulls/triangle_mesh.h"
 #include "aggregator/stereo/patch_photo_consistency.h"
 #include "aggregator/stereo/stereo_views.h"
+#include "aggregator/stereo/taubin_smoothing.h"
 
 namespace silnet::aggregator {
 
@@ -28,9 +30,9 @@ std::vector<Eigen::Vector3d> VertexNormals(const TriangleMesh& mesh);
 
 // Mean curvature of the surface at every vertex (1/metres, positive where it is convex): the
 // curvature of the sphere through the vertex, tangent to its normal, that best fits its
-// neighbours, averaged over the 1-ring `rounds` times (a lattice's staircase makes single
-// estimates noisy).
-std::vector<double> VertexCurvatures(const TriangleMesh& mesh,
+// neighbours (FindVertexNeighbours of the mesh), averaged over the 1-ring `rounds` times (a
+// lattice's staircase makes single estimates noisy).
+std::vector<double> VertexCurvatures(const TriangleMesh& mesh, const VertexNeighbours& neighbours,
                                      const std::vector<Eigen::Vector3d>& normals, int rounds);
 
 // A displacement along the normal (metres) and how much it is trusted (0 = no force).
@@ -49,12 +51,13 @@ struct TextureForceOptions {
 
 // The texture force of every vertex (weight = the best score), on `threads` threads; patches
 // bent to the vertices' `curvatures` (VertexCurvatures), at most to a sphere as wide as the
-// patch.
+// patch. Vertices with skip[i] != 0 (if `skip` is not empty) get no force.
 std::vector<NormalOffset> TextureForces(const TriangleMesh& mesh,
                                         const std::vector<Eigen::Vector3d>& normals,
                                         const std::vector<double>& curvatures,
                                         const PatchScorer& scorer,
-                                        const TextureForceOptions& options, int threads);
+                                        const TextureForceOptions& options, int threads,
+                                        const std::vector<uint8_t>& skip = {});
 
 // Settings of the silhouette force.
 struct SilhouetteForceOptions {

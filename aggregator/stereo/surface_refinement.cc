@@ -157,11 +157,18 @@ TriangleMesh RefineSurface(const TriangleMesh& surface, const std::vector<Stereo
     }
     if (options.max_edge_px > 0) s.split_edges += Remesh(geometry, options, &mesh, &anchors);
     const std::vector<Eigen::Vector3d> normals = VertexNormals(mesh);
-    const std::vector<NormalOffset> textured =
-        TextureForces(mesh, normals, VertexCurvatures(mesh, normals, options.curvature_rounds),
-                      scorer, texture, options.threads);
+    const VertexNeighbours neighbours = FindVertexNeighbours(mesh);
+    // Two iterations search the whole range, the rest its middle half: by then the surface
+    // is within a footprint of where the patches want it.
+    texture.range = (iteration < 2 ? 1.0 : 0.5) * options.search_footprints * footprint;
     const std::vector<NormalOffset> rims =
         SilhouetteForces(mesh, normals, silhouette, options.threads);
+    std::vector<uint8_t> on_rim(rims.size());
+    for (size_t i = 0; i < rims.size(); ++i)
+      on_rim[i] = rims[i].weight > 0 ? 1 : 0;
+    const std::vector<NormalOffset> textured = TextureForces(
+        mesh, normals, VertexCurvatures(mesh, neighbours, normals, options.curvature_rounds),
+        scorer, texture, options.threads, on_rim);
     // The silhouettes where they pull, else the texture's part.
     std::vector<double> offsets(mesh.vertices.size(), 0.0);
     s.textured = s.rims = 0;
@@ -176,8 +183,8 @@ TriangleMesh RefineSurface(const TriangleMesh& surface, const std::vector<Stereo
     }
     boxes(&lo, &hi);
     MoveAlongNormals(normals, offsets, max_step, lo, hi, &mesh);
-    TaubinSmooth(&mesh, options.smoothing_pairs, options.smoothing_lambda, options.smoothing_mu, lo,
-                 hi);
+    TaubinSmooth(&mesh, neighbours, options.smoothing_pairs, options.smoothing_lambda,
+                 options.smoothing_mu, lo, hi);
     if (progress) progress->Advance();
   }
   if (!covered.empty() && !s.cancelled) {

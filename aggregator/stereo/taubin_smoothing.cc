@@ -57,9 +57,15 @@ void LaplacianStep(const VertexNeighbours& n, double w, const std::vector<Eigen:
 
 void TaubinSmooth(TriangleMesh* mesh, int iterations, double lambda, double mu,
                   const std::vector<Eigen::Vector3f>& lo, const std::vector<Eigen::Vector3f>& hi) {
-  SILNET_CHECK(lo.size() == mesh->vertices.size() && hi.size() == mesh->vertices.size());
   if (iterations <= 0 || mesh->vertices.empty()) return;
-  const VertexNeighbours neighbours = FindVertexNeighbours(*mesh);
+  TaubinSmooth(mesh, FindVertexNeighbours(*mesh), iterations, lambda, mu, lo, hi);
+}
+
+void TaubinSmooth(TriangleMesh* mesh, const VertexNeighbours& neighbours, int iterations,
+                  double lambda, double mu, const std::vector<Eigen::Vector3f>& lo,
+                  const std::vector<Eigen::Vector3f>& hi) {
+  SILNET_CHECK(lo.size() == mesh->vertices.size() && hi.size() == mesh->vertices.size());
+  SILNET_CHECK(neighbours.begin.size() == mesh->vertices.size() + 1);
   for (int it = 0; it < iterations; ++it) {
     LaplacianStep(neighbours, lambda, lo, hi, mesh->vertices);
     LaplacianStep(neighbours, mu, lo, hi, mesh->vertices);

@@ -29,5 +29,9 @@ VertexNeighbours FindVertexNeighbours(const TriangleMesh& mesh);
 // after every step (lo, hi as long as the vertices; CheckError otherwise).
 void TaubinSmooth(TriangleMesh* mesh, int iterations, double lambda, double mu,
                   const std::vector<Eigen::Vector3f>& lo, const std::vector<Eigen::Vector3f>& hi);
+// The same with the mesh's neighbours (FindVertexNeighbours) already at hand.
+void TaubinSmooth(TriangleMesh* mesh, const VertexNeighbours& neighbours, int iterations,
+                  double lambda, double mu, const std::vector<Eigen::Vector3f>& lo,
+                  const std::vector<Eigen::Vector3f>& hi);
 
 }  // namespace silnet::aggregator

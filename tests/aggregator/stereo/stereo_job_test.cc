@@ -291,7 +291,7 @@ TEST(StereoJobTest, SimulatedStillsGiveAClosedModelMoreAccurateThanTheHull) {
   const ModelEvaluation& hull = *result.hull.evaluation;
   std::printf("[ stereo job ] %.1f s; model: %s; hull: %s\n", seconds, model.Brief().c_str(),
               hull.Brief().c_str());
-  // Measured: model 1.15 fp, 94.8 / 99.0 % within 1 / 2 fp; the graph cut's surface before
+  // Measured: model 1.07 fp, 93.6 / 98.6 % within 1 / 2 fp; the graph cut's surface before
   // the local refinement 1.4 fp, 98.7 % within 2 fp (2.5 fp, 53 % without the silhouette
   // step); hull 4.3 fp, 94 %.
   EXPECT_LT(model.accuracy_footprints, 0.5 * hull.accuracy_footprints);
@@ -408,9 +408,9 @@ StereoJobResult RunSixteenViews(sim::RigLayout layout) {
 
 // The adaptive tetrahedral method (thesis ch. 7, --method adaptive) on the same stills: a
 // closed model that explains its silhouettes and beats the hull, though not yet the uniform
-// lattice, and the local refinement improves on its cut (measured 2026-11-26: 1.96 fp,
-// 87.9 / 98.7 % within 1 / 2 fp, the cut 2.53 fp, 97.2 % within 2 fp; uniform 1.15 fp,
-// 94.8 / 99.0 %; hull 4.29 fp, 94.0 %; docs/PERFORMANCE.md).
+// lattice, and the local refinement improves on its cut (measured 2026-11-26: 1.77 fp,
+// 88.8 / 98.5 % within 1 / 2 fp, the cut 2.54 fp, 97.1 % within 2 fp; uniform 1.07 fp,
+// 93.6 / 98.6 %; hull 4.29 fp, 94.0 %; docs/PERFORMANCE.md).
 TEST(StereoJobTest, AdaptiveMethodGivesAClosedSilhouetteConsistentModel) {
   const std::filesystem::path& input = SmallStills();
   silnet::testing::TempDir out;
@@ -443,7 +443,7 @@ TEST(StereoJobTest, AdaptiveMethodGivesAClosedSilhouetteConsistentModel) {
 // cut cover its silhouettes, which also brings back the thin parts the plain cut shrinks
 // away (measured: accuracy 1.26 -> 1.02 fp, completeness within 2 fp 85 -> 99.2 %, missed
 // inner silhouette pixels 18662 -> 0 of ~210k; concave region 1.86 fp against the hull's 16.3);
-// the local refinement then 0.80 fp, 98.5 / 99.6 % within 1 / 2 fp, concave region 1.77 fp
+// the local refinement then 0.67 fp, 97.8 / 99.5 % within 1 / 2 fp, concave region 1.56 fp
 // (docs/PERFORMANCE.md).
 TEST(StereoJobTest, SixteenViewRingMeetsTheAccuracyTargetsAndCoversItsSilhouettes) {
   const StereoJobResult result = RunSixteenViews(sim::RigLayout::kRing);

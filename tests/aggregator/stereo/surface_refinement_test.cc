@@ -63,7 +63,8 @@ TEST(SurfaceForcesTest, SphereNormalsPointOutAndCurvatureIsOneOverTheRadius) {
     ASSERT_GT(normals[i].dot(radial), 0.999) << "vertex " << i;
   }
   for (int rounds : {0, 3}) {
-    const std::vector<double> curvature = VertexCurvatures(sphere, normals, rounds);
+    const std::vector<double> curvature =
+        VertexCurvatures(sphere, FindVertexNeighbours(sphere), normals, rounds);
     EXPECT_NEAR(Median(curvature), 1 / kRadius, 0.03 / kRadius) << rounds << " rounds";
     EXPECT_GT(*std::min_element(curvature.begin(), curvature.end()), 0.8 / kRadius);
   }
@@ -71,8 +72,9 @@ TEST(SurfaceForcesTest, SphereNormalsPointOutAndCurvatureIsOneOverTheRadius) {
   TriangleMesh inverted = sphere;
   for (auto& t : inverted.triangles)
     std::swap(t[1], t[2]);
-  EXPECT_NEAR(Median(VertexCurvatures(inverted, VertexNormals(inverted), 0)), -1 / kRadius,
-              0.03 / kRadius);
+  EXPECT_NEAR(Median(VertexCurvatures(inverted, FindVertexNeighbours(inverted),
+                                      VertexNormals(inverted), 0)),
+              -1 / kRadius, 0.03 / kRadius);
 }
 
 // A sphere two footprints too large is pushed in wherever it covers background pixels (nearly
@@ -121,8 +123,9 @@ TEST(SurfaceForcesTest, TextureForceFindsTheSurfaceAlongTheNormal) {
     options.step = 0.5 * kFootprint;
     options.patch_step = kFootprint;
     options.min_score = 0.7;
-    const std::vector<NormalOffset> forces =
-        TextureForces(sphere, normals, VertexCurvatures(sphere, normals, 2), scorer, options, 2);
+    const std::vector<NormalOffset> forces = TextureForces(
+        sphere, normals, VertexCurvatures(sphere, FindVertexNeighbours(sphere), normals, 2), scorer,
+        options, 2);
     std::vector<double> residual;
     for (size_t i = 0; i < forces.size(); ++i)
       if (forces[i].weight > 0) residual.push_back(error + forces[i].offset / kFootprint);
