@@ -2,9 +2,9 @@
 // peak): the simulated statue seen by a ring of 16 cameras at 640x480 (`silnet-sim stills`
 // defaults), all cores, the job's default options. BM_StereoJob runs the whole job
 // (RunStereoJob: load, visual hull, photo-consistency, graph cut with silhouette steps,
-// evaluation, pictures and the output files, into a temporary folder); the others time one
-// stage each as the job runs it, their inputs prepared once outside the timing. Every
-// benchmark runs one iteration; repeat from the command line with, e.g., OPTIONS =
+// refinement, evaluation, pictures and the output files, into a temporary folder); the others time
+// one stage each as the job runs it, their inputs prepared once outside the timing. Every benchmark
+// runs one iteration; repeat from the command line with, e.g., OPTIONS =
 //   --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 // all of them, then the whole job alone:
 //   build/tests/bench/silnet_stereo_bench OPTIONS
@@ -35,6 +35,7 @@
 #include "aggregator/stereo/stereo_job.h"
 #include "aggregator/stereo/stereo_truth.h"
 #include "aggregator/stereo/stills_folder.h"
+#include "aggregator/stereo/surface_refinement.h"
 #include "aggregator/stereo/volumetric_graph_cut.h"
 #include "shared/io/png_writer.h"
 #include "sim/stills_generator.h"
@@ -344,6 +345,40 @@ void BM_GraphCutWithSilhouetteSteps(benchmark::State& state) {
   state.counters["graph_MB"] = static_cast<double>(s.graph_bytes) / 1e6;
 }
 BENCHMARK(BM_GraphCutWithSilhouetteSteps)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+
+// The local refinement (thesis 7.4.3) of the cut's surface with the job's defaults, the patch
+// scorer built outside the timing. accuracy_fp: the refined model's 90 % accuracy against
+// gt_surface.ply, cut_accuracy_fp the cut's, both measured after the timing.
+void BM_Refinement16Views(benchmark::State& state) {
+  const std::string problem = FixtureProblem("cut");
+  if (!problem.empty()) {
+    state.SkipWithError(problem.c_str());
+    return;
+  }
+  const Loaded& loaded = TheLoaded();
+  const TriangleMesh& cut = TheCut().surface;
+  const PatchScorer scorer(loaded.views.views, PatchOptions{});
+  SurfaceRefinementOptions options;
+  options.threads = StereoJobConfig{}.threads;
+  const bool reset = ResetPeakResidentSet();
+  TriangleMesh refined;
+  SurfaceRefinementStats stats;
+  for (auto _ : state) {
+    refined = RefineSurface(cut, loaded.views.views, scorer, Footprint(), options, &stats);
+  }
+  ReportRunPeak(state, reset);
+  const ModelEvaluationOptions evaluation = StereoEvaluationOptions(loaded.truth, Footprint());
+  state.counters["vertices"] = static_cast<double>(stats.vertices);
+  state.counters["restored"] = static_cast<double>(stats.restored);
+  state.counters["missed_final"] =
+      MissedInner(MeasureSilhouetteConsistency(refined, loaded.views.views));
+  state.counters["accuracy_fp"] =
+      EvaluateModel(refined, loaded.truth.points, loaded.truth.normals, evaluation)
+          .accuracy_footprints;
+  state.counters["cut_accuracy_fp"] =
+      EvaluateModel(cut, loaded.truth.points, loaded.truth.normals, evaluation).accuracy_footprints;
+}
+BENCHMARK(BM_Refinement16Views)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 // The evaluation stage: silhouette consistency in the 16 views and accuracy and completeness
 // against gt_surface.ply, of the hull and the model.
