@@ -306,7 +306,7 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
     stage = Clock::now();
     SurfaceRefinementOptions refine = config.refinement;
     refine.threads = config.threads;
-    const PatchScorer scorer(views.views, config.adaptive.mesh.patch);
+    const PatchScorer scorer(views.views, config.refinement.patch);
     SurfaceRefinementStats refined_stats;
     TriangleMesh refined = RefineSurface(model_surface, views.views, scorer, result.footprint,
                                          refine, &refined_stats, progress);

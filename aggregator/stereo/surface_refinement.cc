@@ -102,6 +102,11 @@ bool SurfaceRefinementOptions::IsValid(std::string* reason) const {
   if (!(max_edge_px >= 0)) return fail("max_edge_px must not be negative");
   if (smoothing_pairs < 0 || curvature_rounds < 0 || restore_rounds < 0)
     return fail("smoothing pairs, curvature and restore rounds must not be negative");
+  std::string patch_reason;
+  if (!patch.IsValid(&patch_reason)) {
+    if (reason) *reason = "patch: " + patch_reason;
+    return false;
+  }
   if (!(silhouettes.rim_cos >= 0 && silhouettes.rim_cos < 1 && silhouettes.rim_distance_px >= 0))
     return fail("the rim test needs rim_cos in [0, 1) and rim_distance_px >= 0");
   return true;

@@ -23,7 +23,7 @@ namespace silnet::aggregator {
 // Settings of the refinement; lengths in footprints (the mean size of a pixel at the object).
 struct SurfaceRefinementOptions {
   int iterations = 6;              // 0: the surface is returned as it is
-  double search_footprints = 2.0;  // texture offsets searched in +-this
+  double search_footprints = 2.0;  // texture offsets searched in +-this, then +-half of it
   double search_step_footprints = 0.5;
   double min_score = 0.7;             // texture force only where a patch scores this
   int curvature_rounds = 5;           // VertexCurvatures
@@ -35,6 +35,7 @@ struct SurfaceRefinementOptions {
   int smoothing_pairs = 3;            // Taubin lambda|mu pairs per iteration
   double smoothing_lambda = 0.5;
   double smoothing_mu = -0.53;
+  PatchOptions patch;  // of the texture force's patches (the job builds its scorer from them)
   SilhouetteForceOptions silhouettes;
   int restore_rounds = 6;  // RestoreCoverage of the silhouette pixels the surface covered
   int threads = 0;
