@@ -108,8 +108,9 @@ struct Scratch {
   std::vector<int> chosen;
   std::vector<std::pair<double, int>> ranked;
   std::vector<Eigen::Vector3d> offsets;
-  std::vector<float> values;       // views x points, normalised
-  std::vector<float> correlation;  // views x views
+  std::vector<Eigen::Vector3d> grid;  // AlongNormal: the flat patch it shifts and bends
+  std::vector<float> values;          // views x points, normalised
+  std::vector<float> correlation;     // views x views
   std::vector<float> row;
 };
 
@@ -226,6 +227,16 @@ void ProjectAll(const ViewList& views, const Eigen::Vector3d& x, std::vector<Pro
   }
 }
 
+// The points of a plane patch, every `stride`-th of (2 half + 1)^2 spaced `step` on u and v,
+// row by row, into `out` (replaced).
+void PatchGrid(int half, int stride, const Eigen::Vector3d& u, const Eigen::Vector3d& v,
+               double step, std::vector<Eigen::Vector3d>* out) {
+  out->clear();
+  for (int j = -half; j <= half; j += stride)
+    for (int i = -half; i <= half; i += stride)
+      out->push_back(step * (i * u + j * v));
+}
+
 }  // namespace
 
 PatchScore PatchScorer::BestPlane(const Eigen::Vector3d& x, double step, double prefilter,
@@ -241,16 +252,10 @@ PatchScore PatchScorer::BestPlane(const Eigen::Vector3d& x, double step, double 
     const Eigen::Vector3d u = orientations[o].unitOrthogonal();
     const Eigen::Vector3d v = orientations[o].cross(u);
     if (prefilter > -1) {  // every other point first: most orientations end here
-      s.offsets.clear();
-      for (int j = -half; j <= half; j += 2)
-        for (int i = -half; i <= half; i += 2)
-          s.offsets.push_back(step * (i * u + j * v));
+      PatchGrid(half, 2, u, v, step, &s.offsets);
       if (Score(s.offsets, s.chosen).score < prefilter) continue;
     }
-    s.offsets.clear();
-    for (int j = -half; j <= half; ++j)
-      for (int i = -half; i <= half; ++i)
-        s.offsets.push_back(step * (i * u + j * v));
+    PatchGrid(half, 1, u, v, step, &s.offsets);
     const PatchScore score = Score(s.offsets, s.chosen);
     if (score.score > best.score) {
       best = score;
@@ -265,11 +270,7 @@ PatchScore PatchScorer::Plane(const Eigen::Vector3d& x, const Eigen::Vector3d& n
                               double step) const {
   Scratch& s = ThreadScratch();
   ProjectAll(views_, x, &s.projected);
-  s.offsets.clear();
-  const int half = options_.mu / 2;
-  for (int j = -half; j <= half; ++j)
-    for (int i = -half; i <= half; ++i)
-      s.offsets.push_back(step * (i * u + j * v));
+  PatchGrid(options_.mu / 2, 1, u, v, step, &s.offsets);
   ChooseViews(normal, &s.chosen);
   return Score(s.offsets, s.chosen);
 }
@@ -281,15 +282,13 @@ std::vector<float> PatchScorer::AlongNormal(const Eigen::Vector3d& x, const Eige
   Scratch& s = ThreadScratch();
   ProjectAll(views_, x, &s.projected);
   ChooseViews(normal, &s.chosen);
-  const int half = options_.mu / 2;
+  PatchGrid(options_.mu / 2, 1, u, v, step, &s.grid);
   std::vector<float> scores;
   scores.reserve(shifts.size());
   for (double shift : shifts) {
     s.offsets.clear();
-    for (int j = -half; j <= half; ++j)
-      for (int i = -half; i <= half; ++i)
-        s.offsets.push_back((shift - 0.5 * curvature * step * step * (i * i + j * j)) * normal +
-                            step * (i * u + j * v));
+    for (const Eigen::Vector3d& point : s.grid)
+      s.offsets.push_back(point + (shift - 0.5 * curvature * point.squaredNorm()) * normal);
     scores.push_back(Score(s.offsets, s.chosen).score);
   }
   return scores;

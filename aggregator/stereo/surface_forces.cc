@@ -163,4 +163,15 @@ NormalOffset SilhouetteForce::At(const Eigen::Vector3d& x, const Eigen::Vector3d
   return {static_cast<float>(offset), 1.0f};
 }
 
+std::vector<NormalOffset> SilhouetteForce::AtVertices(const TriangleMesh& mesh,
+                                                      const std::vector<Eigen::Vector3d>& normals,
+                                                      int threads) const {
+  SILNET_CHECK(normals.size() == mesh.vertices.size());
+  std::vector<NormalOffset> forces(mesh.vertices.size());
+  ParallelFor(mesh.vertices.size(), threads, [&](size_t i) {
+    if (!normals[i].isZero()) forces[i] = At(mesh.vertices[i].cast<double>(), normals[i]);
+  });
+  return forces;
+}
+
 }  // namespace silnet::aggregator

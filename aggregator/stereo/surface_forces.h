@@ -74,6 +74,11 @@ class SilhouetteForce {
   // The force on a vertex at `x` with unit normal `normal` (weight 1, or 0 when no view
   // pushes or pulls it).
   NormalOffset At(const Eigen::Vector3d& x, const Eigen::Vector3d& normal) const;
+  // At() for every vertex of `mesh` with its `normals` (none for a zero normal), on `threads`
+  // threads.
+  std::vector<NormalOffset> AtVertices(const TriangleMesh& mesh,
+                                       const std::vector<Eigen::Vector3d>& normals,
+                                       int threads) const;
 
  private:
   struct View {

@@ -9,7 +9,6 @@
 #include "aggregator/stereo/taubin_smoothing.h"
 #include "aggregator/stereo/triangle_remeshing.h"
 #include "shared/util/check.h"
-#include "shared/util/parallel_for.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -59,17 +58,6 @@ size_t Remesh(const std::vector<ViewGeometry>& views, const SurfaceRefinementOpt
     anchors->push_back(0.5f *
                        ((*anchors)[static_cast<size_t>(a)] + (*anchors)[static_cast<size_t>(b)]));
   return split.edges_split + split.closure;
-}
-
-// The silhouette force of every vertex.
-std::vector<NormalOffset> SilhouetteForces(const TriangleMesh& mesh,
-                                           const std::vector<Eigen::Vector3d>& normals,
-                                           const SilhouetteForce& force, int threads) {
-  std::vector<NormalOffset> forces(mesh.vertices.size());
-  ParallelFor(mesh.vertices.size(), threads, [&](size_t i) {
-    if (!normals[i].isZero()) forces[i] = force.At(mesh.vertices[i].cast<double>(), normals[i]);
-  });
-  return forces;
 }
 
 // Moves vertex i by offsets[i] (clamped to +-max_step) along its normal, into its box.
@@ -166,8 +154,7 @@ TriangleMesh RefineSurface(const TriangleMesh& surface, const std::vector<Stereo
     // Two iterations search the whole range, the rest its middle half: by then the surface
     // is within a footprint of where the patches want it.
     texture.range = (iteration < 2 ? 1.0 : 0.5) * options.search_footprints * footprint;
-    const std::vector<NormalOffset> rims =
-        SilhouetteForces(mesh, normals, silhouette, options.threads);
+    const std::vector<NormalOffset> rims = silhouette.AtVertices(mesh, normals, options.threads);
     std::vector<uint8_t> on_rim(rims.size());
     for (size_t i = 0; i < rims.size(); ++i)
       on_rim[i] = rims[i].weight > 0 ? 1 : 0;
