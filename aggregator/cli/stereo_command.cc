@@ -3,6 +3,8 @@
 // constraints of ch. 6 land).
 
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include "aggregator/cli/cli_support.h"
 #include "aggregator/cli/commands.h"
@@ -21,6 +23,7 @@ struct StereoArgs {
   int threads = 0;
   std::string method = "uniform";
   int refine_iterations = SurfaceRefinementOptions{}.iterations;
+  std::vector<std::string> leave_out;
 };
 
 void PrintEvaluation(const char* name, const StereoMeshSummary& mesh) {
@@ -42,6 +45,7 @@ int RunStereo(const StereoArgs& args) {
   config.threads = args.threads;
   config.method = args.method == "adaptive" ? StereoMethod::kAdaptive : StereoMethod::kUniform;
   config.refinement.iterations = args.refine_iterations;
+  config.leave_out = args.leave_out;
   const auto run =
       RunWithProgress("stereo", [&](Progress* progress) { return RunStereoJob(config, progress); });
   if (!run) return 130;
@@ -119,6 +123,9 @@ Command AddStereoCommand(CLI::App& app) {
                   "(thesis 7.4.3; 0 = the graph cut's surface as it is)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  cmd->add_option("--leave-out", args->leave_out,
+                  "cameras not to use, by id, comma-separated (e.g. a camera with a bad still)")
+      ->delimiter(',');
   cmd->add_option("--threads", args->threads, "threads (0 = all cores)")->capture_default_str();
   return {cmd, [args] { return RunStereo(*args); }};
 }

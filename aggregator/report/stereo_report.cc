@@ -125,9 +125,9 @@ std::string RegionTables(const StereoJobResult& result) {
 }
 
 std::string MeshTable(const StereoJobResult& result) {
-  HtmlTable table({"mesh", "triangles", "closed manifold", "volume (cm\u00b3)",
-                   "inner silhouette px missed", "outer px covered", "accuracy (90 %)",
-                   "completeness"});
+  HtmlTable table({"mesh", "triangles", "closed manifold", "parts", "genus of the largest",
+                   "volume (cm\u00b3)", "inner silhouette px missed", "outer px covered",
+                   "accuracy (90 %)", "completeness"});
   const auto add = [&table](const std::string& name, const StereoMeshSummary& m) {
     if (m.triangles == 0) return;
     std::string accuracy = kNone, completeness = kNone;
@@ -137,6 +137,7 @@ std::string MeshTable(const StereoJobResult& result) {
     }
     table.AddRow(
         {name, std::to_string(m.triangles), m.closed_manifold ? "yes" : "no",
+         std::to_string(m.pieces), std::to_string(m.main_genus),
          fmt::format("{:.1f}", m.volume_m3 * 1e6),
          m.views.empty() ? kNone : std::to_string(m.MissedInner()),
          m.views.empty() ? kNone : std::to_string(m.CoveredOuter()), accuracy, completeness},

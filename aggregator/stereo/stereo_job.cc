@@ -3,11 +3,13 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <opencv2/core.hpp>
 
 #include "aggregator/hulls/mesh_check.h"
 #include "aggregator/hulls/mesh_measure.h"
+#include "aggregator/hulls/mesh_topology.h"
 #include "aggregator/hulls/ply_io.h"
 #include "aggregator/hulls/polyhedral_hull.h"
 #include "aggregator/report/stereo_report.h"
@@ -34,6 +36,9 @@ StereoMeshSummary Summarise(const TriangleMesh& mesh) {
   summary.vertices = mesh.vertices.size();
   summary.triangles = mesh.triangles.size();
   summary.closed_manifold = CheckClosedManifold(mesh).closed_manifold;
+  const std::vector<MeshComponent> pieces = MeshComponents(mesh);
+  summary.pieces = pieces.size();
+  summary.main_genus = pieces.empty() ? 0 : pieces.front().genus;
   summary.volume_m3 = MeshVolume(mesh);
   return summary;
 }
@@ -63,7 +68,7 @@ std::vector<std::string> WriteViewPictures(const std::filesystem::path& output,
 
 // The views of the stills folder with its calibration, or of the Middlebury folder when no
 // calibration is given.
-StereoViews LoadViews(const StereoJobConfig& config) {
+StereoViews LoadAllViews(const StereoJobConfig& config) {
   if (!config.calibration.empty()) {
     StillsFolderOptions load;
     load.frame = config.still;
@@ -77,6 +82,25 @@ StereoViews LoadViews(const StereoJobConfig& config) {
         fmt::format("no calibration given (--calib) and {} is not a Middlebury folder either: {}",
                     config.input.string(), e.what()));
   }
+}
+
+// The loaded views but those the config leaves out (InputError for a name that is not one of
+// them, or fewer than two views left).
+StereoViews LoadViews(const StereoJobConfig& config) {
+  StereoViews loaded = LoadAllViews(config);
+  for (const std::string& id : config.leave_out) {
+    const auto it = std::find_if(loaded.views.begin(), loaded.views.end(),
+                                 [&id](const StereoView& v) { return v.camera.id == id; });
+    if (it == loaded.views.end())
+      throw InputError(
+          fmt::format("--leave-out {}: no such view among the {} loaded", id, loaded.views.size()));
+    loaded.views.erase(it);
+    loaded.warnings.push_back(id + ": left out as asked");
+  }
+  if (loaded.views.size() < 2)
+    throw InputError(fmt::format("only {} view(s) left after leaving out {}", loaded.views.size(),
+                                 config.leave_out.size()));
+  return loaded;
 }
 
 // The model by the adaptive tetrahedral stereo (ch. 7) into `surface`; false with the

@@ -68,11 +68,12 @@ std::string ToString(StereoMethod method);
 
 // Inputs, outputs and settings of one run.
 struct StereoJobConfig {
-  std::filesystem::path input;        // stills folder, or Middlebury folder
-  std::filesystem::path calibration;  // calibration.yaml (or ground_truth.yaml); empty: `input`
-                                      // is a Middlebury folder (middlebury_dataset.h)
-  std::filesystem::path output;       // created if missing
-  int still = 0;                      // the still taken: stills/%06d.png, masks/%06d.png
+  std::filesystem::path input;         // stills folder, or Middlebury folder
+  std::filesystem::path calibration;   // calibration.yaml (or ground_truth.yaml); empty: `input`
+                                       // is a Middlebury folder (middlebury_dataset.h)
+  std::filesystem::path output;        // created if missing
+  int still = 0;                       // the still taken: stills/%06d.png, masks/%06d.png
+  std::vector<std::string> leave_out;  // cameras not used, by id (each one a loaded view's)
   PhotoConsistencyOptions photo_consistency;  // threads set by `threads`
   VolumetricGraphCutOptions graph_cut = StereoGraphCutDefaults();
   StereoMethod method = StereoMethod::kUniform;
@@ -95,6 +96,8 @@ struct StereoMeshSummary {
   std::string file;  // inside the output folder; empty if not written
   size_t vertices = 0, triangles = 0;
   bool closed_manifold = false;
+  size_t pieces = 0;    // connected parts (mesh_topology.h)
+  long main_genus = 0;  // handles of the part with the most triangles
   double volume_m3 = 0;
   std::vector<SilhouetteConsistency> views;   // against each view's mask
   std::optional<ModelEvaluation> evaluation;  // against gt_surface.ply, when present

@@ -52,7 +52,8 @@ void WriteEvaluation(cv::FileStorage& fs, const ModelEvaluation& e) {
 void WriteMesh(cv::FileStorage& fs, const std::string& name, const StereoMeshSummary& m) {
   fs << name << "{"
      << "file" << m.file << "vertices" << AsInt(m.vertices) << "faces" << AsInt(m.triangles)
-     << "closed_manifold" << static_cast<int>(m.closed_manifold) << "volume_m3" << m.volume_m3;
+     << "closed_manifold" << static_cast<int>(m.closed_manifold) << "pieces" << AsInt(m.pieces)
+     << "main_genus" << static_cast<int>(m.main_genus) << "volume_m3" << m.volume_m3;
   if (!m.views.empty()) {
     fs << "missed_inner_pixels" << AsInt(m.MissedInner()) << "covered_outer_pixels"
        << AsInt(m.CoveredOuter());
