@@ -69,16 +69,17 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   label_options.ray_step = stats.finest_spacing / 2;
   label_options.ray_start = 2 * stats.finest_spacing;
   label_options.threads = options.threads;
+  std::vector<uint32_t> votes;
   const std::vector<CellLabel> labels =
       LabelCells(mesh, levels, adaptive.levels.back().level, scorer, cameras, adaptive.points,
-                 label_options, &stats.labels);
+                 label_options, &stats.labels, &votes);
   stats.seconds_labels = SecondsSince(start);
   if (cancelled()) return result;
 
   start = Clock::now();
   TetGraphCutOptions cut_options = options.cut;
   cut_options.threads = options.threads;
-  TetGraphCut cut(mesh, labels, scorer, footprint, cut_options);
+  TetGraphCut cut(mesh, labels, votes, scorer, footprint, cut_options);
   stats.links = cut.links();
   stats.faces_scored = cut.faces_scored();
   stats.seconds_cut = SecondsSince(start);

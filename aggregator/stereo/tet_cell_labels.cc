@@ -26,7 +26,8 @@ std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<int>& l
                                   const PatchScorer& scorer,
                                   const std::vector<CameraModel>& cameras,
                                   const std::vector<OrientedPoint>& points,
-                                  const CellLabelOptions& options, CellLabelStats* stats) {
+                                  const CellLabelOptions& options, CellLabelStats* stats,
+                                  std::vector<uint32_t>* votes_out) {
   SILNET_CHECK(levels.size() == mesh.tetrahedra.size());
   SILNET_CHECK(options.ray_step > 0);
   const size_t cells = mesh.tetrahedra.size();
@@ -98,6 +99,11 @@ std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<int>& l
   for (CellLabel l : labels)
     local.free += l == CellLabel::kFree ? 1 : 0;
   if (stats) *stats = local;
+  if (votes_out) {
+    votes_out->resize(cells);
+    for (size_t t = 0; t < cells; ++t)
+      (*votes_out)[t] = votes[t];
+  }
   return labels;
 }
 

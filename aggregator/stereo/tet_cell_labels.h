@@ -42,11 +42,12 @@ struct CellLabelStats {
 };
 
 // Labels of the conforming mesh's tetrahedra (`levels[t]` the red level each came from,
-// `finest` the finest level).
+// `finest` the finest level). With `votes`, also the number of rays that crossed each cell.
 std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<int>& levels, int finest,
                                   const PatchScorer& scorer,
                                   const std::vector<CameraModel>& cameras,
                                   const std::vector<OrientedPoint>& points,
-                                  const CellLabelOptions& options, CellLabelStats* stats);
+                                  const CellLabelOptions& options, CellLabelStats* stats,
+                                  std::vector<uint32_t>* votes = nullptr);
 
 }  // namespace silnet::aggregator

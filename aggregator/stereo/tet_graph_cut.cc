@@ -27,11 +27,13 @@ double TetGraphCut::flow() const {
 }
 
 TetGraphCut::TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labels,
-                         const PatchScorer& scorer, double footprint,
-                         const TetGraphCutOptions& options)
+                         const std::vector<uint32_t>& votes, const PatchScorer& scorer,
+                         double footprint, const TetGraphCutOptions& options)
     : mesh_(mesh), graph_(std::make_unique<Graph>()) {
   SILNET_CHECK(labels.size() == mesh.tetrahedra.size());
-  SILNET_CHECK(footprint > 0 && options.sigma > 0 && options.lambda >= 0);
+  SILNET_CHECK(votes.empty() || votes.size() == mesh.tetrahedra.size());
+  SILNET_CHECK(footprint > 0 && options.sigma > 0 && options.lambda >= 0 &&
+               options.ballooning >= 0);
   const size_t cells = mesh.tetrahedra.size();
   graph_->faces = SortedCellFaces(mesh);
   const std::vector<CellFace>& faces = graph_->faces;
@@ -77,7 +79,15 @@ TetGraphCut::TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labe
   double total = 1.0;
   for (double c : capacity)
     total += c;
+  const double balloon = options.ballooning / footprint;
   for (size_t t = 0; t < cells; ++t) {
+    if (balloon > 0 && labels[t] == CellLabel::kFree &&
+        (votes.empty() || votes[t] < options.ballooning_max_votes)) {
+      const Tetrahedron& q = mesh.tetrahedra[t];
+      const auto& x = mesh.vertices;
+      const double volume = std::abs(SignedVolume6(x[q[0]], x[q[1]], x[q[2]], x[q[3]])) / 6;
+      graph.AddTerminalCapacities(static_cast<int>(t), balloon * volume, 0);
+    }
     if (labels[t] == CellLabel::kInterior)
       graph.AddTerminalCapacities(static_cast<int>(t), total, 0);
     if (labels[t] == CellLabel::kExterior)

@@ -8,6 +8,12 @@
 // the face (either side's normal), truncated at 0. Faces larger than a few footprints (cells
 // the refinement left coarse, where no surface was found) get w_f = 0. The cut's surface is
 // the faces between source and sink cells, oriented outwards.
+// Beyond eq. 7.2, a visibility-based ballooning term (the thesis's ref. [58]): a free cell
+// that fewer than `ballooning_max_votes` rays of quasi-dense points crossed (no view saw
+// through it) is tied to the source with ballooning x volume / footprint, so the cut does not
+// shrink away from surfaces whose tetrahedral faces score poorly; cells seen through get
+// none, which keeps concavities that some view sees open. Having no sink link, the term can
+// never carve the inside.
 
 #include <cstddef>
 #include <cstdint>
@@ -28,16 +34,21 @@ struct TetGraphCutOptions {
   double lambda = 0.1;                    // area term, per unit of face area
   double sigma = 0.5;                     // width of the photo-consistency cost
   double max_scored_face_footprints = 4;  // longer face edges: not scored (w_f = 0)
+  double ballooning = 0.3;                // per free cell, x volume / footprint; 0 = none
+  uint32_t ballooning_max_votes = 1;      // cells crossed by this many rays: no ballooning
   int threads = 0;
 };
 
 // The cut of one mesh, kept so cells can be forced inside and the cut updated (7.4.2).
 class TetGraphCut {
  public:
-  // Builds the dual graph of `mesh` with `labels` (one per cell) and solves it. `footprint`
-  // (metres) sets the patches' point spacing. The mesh must outlive the cut.
-  TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labels, const PatchScorer& scorer,
-              double footprint, const TetGraphCutOptions& options);
+  // Builds the dual graph of `mesh` with `labels` and the rays that crossed each cell
+  // (`votes`, LabelCells; both one per cell, votes empty: every free cell balloons) and
+  // solves it. `footprint` (metres) sets the patches' point spacing and the ballooning's
+  // unit. The mesh must outlive the cut.
+  TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labels,
+              const std::vector<uint32_t>& votes, const PatchScorer& scorer, double footprint,
+              const TetGraphCutOptions& options);
   ~TetGraphCut();
 
   // Per cell: 1 on the source (interior) side of the current cut.

@@ -198,13 +198,15 @@ TEST(AdaptiveTetMeshTest, CutWithSilhouetteStepReconstructsTheStatue) {
   label_options.ray_step = spacing / 2;
   label_options.ray_start = 2 * spacing;
   CellLabelStats label_stats;
+  std::vector<uint32_t> votes;
   const std::vector<CellLabel> labels =
       LabelCells(conforming.mesh, levels, adaptive.levels.back().level, scorer,
-                 stills.views.Cameras(), adaptive.points, label_options, &label_stats);
+                 stills.views.Cameras(), adaptive.points, label_options, &label_stats, &votes);
+  ASSERT_EQ(votes.size(), labels.size());
   EXPECT_GT(label_stats.outside_hull, 0u);
   EXPECT_GT(label_stats.interior, 0u);
 
-  TetGraphCut cut(conforming.mesh, labels, scorer, stills.footprint, {});
+  TetGraphCut cut(conforming.mesh, labels, votes, scorer, stills.footprint, {});
   const TetPointLocator locator(conforming.mesh, 2 * spacing);
   TetSilhouetteOptions silhouette_options;
   silhouette_options.ray_step = spacing / 2;

@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <opencv2/core.hpp>
 #include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -369,12 +370,22 @@ size_t InnerPixels(const StereoMeshSummary& mesh) {
 // silhouette-consistent (every silhouette pixel >= 1 px inside the outline covered, none
 // >= 1 px outside it), and in the concave region (the true surface the hull misses by > 2 fp)
 // far better than the hull.
+// Simulated 640x480 stills of 16 cameras in `layout`, made once per layout.
+const std::filesystem::path& SixteenViewStills(sim::RigLayout layout) {
+  static std::map<sim::RigLayout, silnet::testing::TempDir> dirs;
+  const auto [it, made] = dirs.try_emplace(layout);
+  if (made) {
+    sim::StillsOptions options;  // 16 cameras, 640x480
+    options.network.layout = layout;
+    sim::GenerateStills(options, it->second.path(), nullptr);
+  }
+  return it->second.path();
+}
+
 StereoJobResult RunSixteenViews(sim::RigLayout layout) {
-  silnet::testing::TempDir input, out;
-  sim::StillsOptions options;  // 16 cameras, 640x480
-  options.network.layout = layout;
-  sim::GenerateStills(options, input.path(), nullptr);
-  const StereoJobResult result = RunStereoJob(ConfigFor(input.path(), out.path()), nullptr);
+  silnet::testing::TempDir out;
+  const std::filesystem::path& input = SixteenViewStills(layout);
+  const StereoJobResult result = RunStereoJob(ConfigFor(input, out.path()), nullptr);
   EXPECT_TRUE(result.success) << result.reason;
   if (!result.success) return result;
   EXPECT_TRUE(result.model.evaluation && result.hull.evaluation);
@@ -407,9 +418,10 @@ StereoJobResult RunSixteenViews(sim::RigLayout layout) {
 }
 
 // The adaptive tetrahedral method (thesis ch. 7, --method adaptive) on the same stills: a
-// closed model that explains its silhouettes and beats the hull, though not yet the uniform
-// lattice, and the local refinement improves on its cut (measured 2026-11-26: 1.77 fp,
-// 88.8 / 98.5 % within 1 / 2 fp, the cut 2.54 fp, 97.1 % within 2 fp; uniform 1.07 fp,
+// closed model that explains its silhouettes and beats the hull, about as accurate as the
+// uniform lattice on these few small views, and the local refinement improves on its cut
+// (measured 2026-11-26 with the visibility-based ballooning: 1.08 fp, 92.7 / 98.5 % within
+// 1 / 2 fp, the cut 1.53 fp, 98.8 %; without ballooning 1.77 fp; uniform 1.07 fp,
 // 93.6 / 98.6 %; hull 4.29 fp, 94.0 %; docs/PERFORMANCE.md).
 TEST(StereoJobTest, AdaptiveMethodGivesAClosedSilhouetteConsistentModel) {
   const std::filesystem::path& input = SmallStills();
@@ -428,8 +440,8 @@ TEST(StereoJobTest, AdaptiveMethodGivesAClosedSilhouetteConsistentModel) {
               result.adaptive->cells, result.model.MissedInner(), inner, model.Brief().c_str());
   EXPECT_LT(result.model.MissedInner() * 500, inner);
   EXPECT_LT(model.accuracy_footprints, result.hull.evaluation->accuracy_footprints);
-  EXPECT_LE(model.accuracy_footprints, 2.5);
-  EXPECT_GE(model.completeness[1].fraction, 0.95);
+  EXPECT_LE(model.accuracy_footprints, 1.4);
+  EXPECT_GE(model.completeness[1].fraction, 0.97);
   ASSERT_TRUE(result.cut.evaluation);
   std::printf("[ stereo job, adaptive ] the cut before refinement: %s\n",
               result.cut.evaluation->Brief().c_str());
@@ -452,6 +464,44 @@ TEST(StereoJobTest, SixteenViewRingMeetsTheAccuracyTargetsAndCoversItsSilhouette
             0.6 * result.hull.evaluation->accuracy_footprints);
   ASSERT_FALSE(result.graph_cut.missed_pixels_per_round.empty());
   EXPECT_GT(result.graph_cut.missed_pixels_per_round.front(), 10000u);
+}
+
+// Issue 18's acceptance on the ring: the adaptive method at least as accurate as the uniform
+// lattice and as complete within 2 footprints, as exactly silhouette-consistent up to a few
+// pixels, in one piece with the statue's one through-hole (the arm loop) plus at most a few
+// specks (measured 2026-11-26: adaptive 0.52 fp, 97.6 / 99.5 % within 1 / 2 fp, 1 inner pixel
+// missed of ~210 k, 14 pieces, genus 1; uniform 0.67 fp, 97.8 / 99.5 %, 171 pieces, genus 2).
+TEST(StereoJobTest, SixteenViewRingAdaptiveMethodIsAtLeastAsGoodAsTheUniformLattice) {
+  const std::filesystem::path& input = SixteenViewStills(sim::RigLayout::kRing);
+  silnet::testing::TempDir uniform_out, adaptive_out;
+  const StereoJobResult uniform = RunStereoJob(ConfigFor(input, uniform_out.path()), nullptr);
+  StereoJobConfig config = ConfigFor(input, adaptive_out.path());
+  config.method = StereoMethod::kAdaptive;
+  const StereoJobResult adaptive = RunStereoJob(config, nullptr);
+  ASSERT_TRUE(uniform.success && adaptive.success) << uniform.reason << adaptive.reason;
+  ASSERT_TRUE(uniform.model.evaluation && adaptive.model.evaluation && adaptive.hull.evaluation);
+  const ModelEvaluation& a = *adaptive.model.evaluation;
+  const ModelEvaluation& u = *uniform.model.evaluation;
+  std::printf(
+      "[ stereo job ] ring, adaptive: %s; %zu pieces, genus %ld, missed %zu / covered %zu\n",
+      a.Brief().c_str(), adaptive.model.pieces, adaptive.model.main_genus,
+      adaptive.model.MissedInner(), adaptive.model.CoveredOuter());
+  std::printf("[ stereo job ] ring, uniform: %s; %zu pieces, genus %ld\n", u.Brief().c_str(),
+              uniform.model.pieces, uniform.model.main_genus);
+  EXPECT_LE(a.accuracy_footprints, u.accuracy_footprints);
+  EXPECT_GE(a.completeness[1].fraction, u.completeness[1].fraction - 0.002);
+  EXPECT_GE(a.completeness[0].fraction, u.completeness[0].fraction - 0.01);
+  EXPECT_TRUE(adaptive.model.closed_manifold);
+  EXPECT_LE(adaptive.model.MissedInner(), 10u);
+  EXPECT_LE(adaptive.model.CoveredOuter(), 10u);
+  EXPECT_EQ(adaptive.hull.main_genus, 1);
+  EXPECT_EQ(adaptive.model.main_genus, 1);
+  EXPECT_LE(adaptive.model.pieces, 30u);
+  // In the concavities the hull cannot reach, too.
+  const RegionEvaluation* a_concave = a.Region(kConcaveRegion);
+  const RegionEvaluation* u_concave = u.Region(kConcaveRegion);
+  ASSERT_TRUE(a_concave && u_concave);
+  EXPECT_LE(a_concave->accuracy_footprints, 1.2 * u_concave->accuracy_footprints);
 }
 
 // A dome sees the statue from above too: its hull is tight (0.82 fp) but still fills the
@@ -513,6 +563,27 @@ TEST(StereoJobTest, FailureIsDataAndLeavesNoModel) {
   EXPECT_FALSE(std::filesystem::exists(out / "views"));
 
   config.graph_cut.lambda = 0;
+  EXPECT_THROW(RunStereoJob(config, nullptr), InputError);
+}
+
+// --leave-out: the named cameras are not loaded (and said so); a name that is no loaded
+// view, or leaving fewer than two views, is an input error.
+TEST(StereoJobTest, LeftOutCamerasAreNotUsedAndUnknownOnesAreAnInputError) {
+  const std::filesystem::path& input = SmallStills();
+  silnet::testing::TempDir out;
+  StereoJobConfig config = ConfigFor(input, out.path());
+  config.leave_out = {"cam03", "cam05"};
+  Progress progress("stereo", 0);
+  progress.Cancel();  // stops right after loading
+  const StereoJobResult result = RunStereoJob(config, &progress);
+  EXPECT_EQ(result.views, 6u);
+  for (const CameraModel& camera : result.cameras)
+    EXPECT_TRUE(camera.id != "cam03" && camera.id != "cam05") << camera.id;
+  EXPECT_NE(std::find(result.warnings.begin(), result.warnings.end(), "cam05: left out as asked"),
+            result.warnings.end());
+  config.leave_out = {"cam99"};
+  EXPECT_THROW(RunStereoJob(config, nullptr), InputError);
+  config.leave_out = {"cam00", "cam01", "cam02", "cam03", "cam04", "cam05", "cam06"};
   EXPECT_THROW(RunStereoJob(config, nullptr), InputError);
 }
 
