@@ -103,8 +103,9 @@ Command AddStereoCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--method", args->method,
                   "uniform: votes on a lattice and its graph cut (thesis ch. 5-6); adaptive: the "
-                  "adaptive tetrahedral mesh and its dual graph cut (ch. 7, less accurate so "
-                  "far: docs/PERFORMANCE.md)")
+                  "adaptive tetrahedral mesh and its dual graph cut (ch. 7; more accurate on "
+                  "well-textured subjects, much slower on weakly textured ones: "
+                  "docs/PERFORMANCE.md)")
       ->check(CLI::IsMember({"uniform", "adaptive"}))
       ->capture_default_str();
   // Values are validated by the job (InputError, exit code 2, with the reason).

@@ -60,8 +60,9 @@ VolumetricGraphCutOptions StereoGraphCutDefaults();
 // The reconstruction after the visual hull.
 enum class StereoMethod {
   kUniform,   // votes on a uniform lattice and its volumetric graph cut (ch. 5-6): the default,
-              // the more accurate of the two (docs/PERFORMANCE.md)
-  kAdaptive,  // the adaptive tetrahedral mesh and its dual graph cut (ch. 7), not finished
+              // far cheaper on weakly textured real photographs (docs/PERFORMANCE.md)
+  kAdaptive,  // the adaptive tetrahedral mesh and its dual graph cut (ch. 7): more accurate
+              // on the simulated rigs, not tied to the hull's topology
 };
 // "uniform" or "adaptive".
 std::string ToString(StereoMethod method);
