@@ -92,7 +92,9 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   const TetSilhouetteStats step =
       EnforceSilhouettesOnTets(&cut, mesh, labels, locator, views, silhouette_options);
   stats.missed = step.missed;
+  stats.covered = step.covered;
   stats.forced = step.forced;
+  stats.forced_out = step.forced_out;
   stats.seconds_silhouettes = SecondsSince(start);
   if (cancelled()) return result;
 
@@ -105,11 +107,12 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   if (progress) progress->Advance();
   spdlog::info(
       "adaptive stereo: {} cells ({} levels), {} quasi-dense points, {} faces scored; "
-      "{} cells forced by the silhouettes, {} added for a manifold surface; {} triangles; "
+      "{} cells forced inside and {} outside by the silhouettes, {} added for a manifold "
+      "surface; {} triangles; "
       "mesh {:.1f} s, labels {:.1f} s, cut {:.1f} s, silhouettes {:.1f} s, surface {:.1f} s",
       stats.cells, stats.levels.size(), stats.quasi_dense_points, stats.faces_scored, stats.forced,
-      stats.repaired, result.surface.triangles.size(), stats.seconds_mesh, stats.seconds_labels,
-      stats.seconds_cut, stats.seconds_silhouettes, stats.seconds_surface);
+      stats.forced_out, stats.repaired, result.surface.triangles.size(), stats.seconds_mesh,
+      stats.seconds_labels, stats.seconds_cut, stats.seconds_silhouettes, stats.seconds_surface);
   if (result.surface.triangles.empty()) {
     result.reason = "the cut is empty";
     return result;

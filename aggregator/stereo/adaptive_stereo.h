@@ -43,10 +43,12 @@ struct AdaptiveStereoStats {
   size_t faces_scored = 0;  // faces given a photo-consistency cost
   size_t quasi_dense_points = 0;
   CellLabelStats labels;
-  std::vector<size_t> missed;  // silhouette step: missed inner pixels per round
-  size_t forced = 0;           // cells forced inside
-  size_t repaired = 0;         // cells added to make the surface manifold
-  double finest_spacing = 0;   // metres
+  std::vector<size_t> missed;   // silhouette step: missed inner pixels per round
+  std::vector<size_t> covered;  // and covered outer pixels
+  size_t forced = 0;            // cells forced inside
+  size_t forced_out = 0;        // cells forced outside
+  size_t repaired = 0;          // cells added to make the surface manifold
+  double finest_spacing = 0;    // metres
   double seconds_mesh = 0, seconds_labels = 0, seconds_cut = 0, seconds_silhouettes = 0,
          seconds_surface = 0;
 };

@@ -37,8 +37,8 @@ struct MaxFlowGraph::Impl {
   int nodes = 0;
   int64_t edges = 0;
   bool solved = false;
-  bool pending = false;   // nodes forced since the last Solve() or Resolve()
-  double sink_total = 0;  // sum of all sink capacities added
+  bool pending = false;  // nodes forced since the last Solve() or Resolve()
+  double total = 0;      // sum of all capacities added (t-links and both arcs of n-links)
   double flow = 0;
 };
 
@@ -62,13 +62,14 @@ void MaxFlowGraph::AddTerminalCapacities(int node, double source_capacity, doubl
   SILNET_CHECK(node >= 0 && node < impl_->nodes && !impl_->solved);
   SILNET_CHECK(source_capacity >= 0 && sink_capacity >= 0);
   impl_->graph.add_tweights(node, source_capacity, sink_capacity);
-  impl_->sink_total += sink_capacity;
+  impl_->total += source_capacity + sink_capacity;
 }
 
 void MaxFlowGraph::AddEdge(int a, int b, double a_to_b, double b_to_a) {
   SILNET_CHECK(a >= 0 && a < impl_->nodes && b >= 0 && b < impl_->nodes && a != b);
   SILNET_CHECK(a_to_b >= 0 && b_to_a >= 0 && !impl_->solved);
   impl_->graph.add_edge(a, b, a_to_b, b_to_a);
+  impl_->total += a_to_b + b_to_a;
   ++impl_->edges;
 }
 
@@ -80,12 +81,21 @@ double MaxFlowGraph::Solve() {
 }
 
 void MaxFlowGraph::ForceSourceSide(int node) {
-  SILNET_CHECK_MSG(impl_->solved, "MaxFlowGraph::ForceSourceSide before Solve");
+  Force(node, true);
+}
+
+void MaxFlowGraph::ForceSinkSide(int node) {
+  Force(node, false);
+}
+
+void MaxFlowGraph::Force(int node, bool source) {
+  SILNET_CHECK_MSG(impl_->solved, "MaxFlowGraph: forcing a node before Solve");
   SILNET_CHECK(node >= 0 && node < impl_->nodes);
-  // Any cut that separates `node` from the source costs more than the cut with every node on
-  // the source side, whose capacity is at most sink_total: the library adds this to the
-  // node's residual source capacity (cancelling any residual sink capacity as flow).
-  impl_->graph.add_tweights(node, impl_->sink_total + 1.0, 0.0);
+  // A cut that cuts a forcing link costs more than all the original links together, so more
+  // than the cut that separates only the forced nodes by their kind: no minimum cut does. The
+  // library adds this to the node's residual capacity (cancelling the other side's as flow).
+  const double capacity = impl_->total + 1.0;
+  impl_->graph.add_tweights(node, source ? capacity : 0.0, source ? 0.0 : capacity);
   impl_->graph.mark_node(node);
   impl_->pending = true;
 }

@@ -14,9 +14,9 @@ namespace silnet::aggregator {
 // A flow graph with a source, a sink and non-negative capacities on terminal links
 // (t-links) and on directed pairs of neighbour links (n-links). Build it, call Solve() once,
 // then read which side of the minimum cut each node is on. After Solve() nodes may be forced
-// to the source side and the cut updated by Resolve(), which reuses the search trees and the
-// flow found so far (Kohli and Torr, "Efficiently Solving Dynamic Markov Random Fields Using
-// Graph Cuts", ICCV 2005): far cheaper than solving the changed graph from scratch when few
+// to the source or the sink side and the cut updated by Resolve(), which reuses the search trees
+// and the flow found so far (Kohli and Torr, "Efficiently Solving Dynamic Markov Random Fields
+// Using Graph Cuts", ICCV 2005): far cheaper than solving the changed graph from scratch when few
 // nodes change. Node ids are 0, 1, 2, ... in the order added. Not copyable; not thread-safe.
 class MaxFlowGraph {
  public:
@@ -40,21 +40,23 @@ class MaxFlowGraph {
 
   // Computes the maximum flow (= the capacity of the minimum cut) and returns it. Call once,
   // after the graph is complete (CheckError on a second call or on changes other than
-  // ForceSourceSide afterwards).
+  // forcing afterwards).
   double Solve();
 
-  // After Solve(): ties `node` to the source with a capacity larger than the capacity of the
-  // cut that puts every node on the source side (the sum of all sink capacities, plus 1), so
-  // no minimum cut separates it from the source and no minimum cut's capacity includes it.
-  // Takes effect at the next Resolve(); forcing a node twice is harmless.
+  // After Solve(): ties `node` to the source (ForceSourceSide) or the sink (ForceSinkSide)
+  // with a capacity larger than all the original capacities together, so no minimum cut
+  // separates it from that terminal and no minimum cut's capacity includes the tie. Takes
+  // effect at the next Resolve(); forcing a node twice to one side is harmless, to both
+  // sides is the caller's error (the cut then splits one of the ties).
   void ForceSourceSide(int node);
+  void ForceSinkSide(int node);
   // After Solve(): the maximum flow of the graph with the nodes forced since the last
   // Solve() or Resolve(), computed from the previous flow and search trees. Returns the new
   // value, the capacity of the changed graph's minimum cut (the forcing capacities are never
   // cut, so it counts only the original links).
   double Resolve();
 
-  // After Solve(), with no ForceSourceSide pending: true iff `node` is on the source side of
+  // After Solve(), with no forcing pending: true iff `node` is on the source side of
   // the minimum cut. A node that can be on either side of some minimum cut (one that cannot
   // reach the sink in the residual graph) counts as source, so in exact arithmetic the labels
   // are the minimum cut with the largest source side, whatever the order of solves.
@@ -70,6 +72,7 @@ class MaxFlowGraph {
   size_t MemoryBytes() const;
 
  private:
+  void Force(int node, bool source);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -73,11 +73,16 @@ void WriteAdaptive(cv::FileStorage& fs, const AdaptiveStereoStats& a) {
      << AsInt(a.faces_scored) << "quasi_dense_points" << AsInt(a.quasi_dense_points)
      << "finest_spacing_mm" << a.finest_spacing * 1e3 << "cells_outside_hull"
      << AsInt(a.labels.outside_hull) << "cells_interior" << AsInt(a.labels.interior)
-     << "cells_forced" << AsInt(a.forced) << "cells_added_for_manifold" << AsInt(a.repaired)
-     << "missed_inner_per_round"
+     << "cells_forced" << AsInt(a.forced) << "cells_forced_outside" << AsInt(a.forced_out)
+     << "cells_added_for_manifold" << AsInt(a.repaired) << "missed_inner_per_round"
      << "[";
   for (size_t m : a.missed)
     fs << AsInt(m);
+  fs << "]"
+     << "covered_outer_per_round"
+     << "[";
+  for (size_t c : a.covered)
+    fs << AsInt(c);
   fs << "]"
      << "levels"
      << "[";

@@ -101,23 +101,38 @@ TetGraphCut::TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labe
   graph.Solve();
   links_ = shared.size();
   interior_.resize(cells);
+  forced_side_.assign(cells, 0);
   for (size_t t = 0; t < cells; ++t)
     interior_[t] = graph.IsSourceSide(static_cast<int>(t)) ? 1 : 0;
 }
 
 size_t TetGraphCut::ForceInterior(const std::vector<int32_t>& cells) {
-  size_t added = 0;
+  return Force(cells, true);
+}
+
+size_t TetGraphCut::ForceExterior(const std::vector<int32_t>& cells) {
+  return Force(cells, false);
+}
+
+size_t TetGraphCut::Force(const std::vector<int32_t>& cells, bool interior) {
+  size_t changed = 0;
   for (int32_t c : cells) {
-    if (interior_[static_cast<size_t>(c)]) continue;
-    graph_->flow.ForceSourceSide(c);
-    forced_.push_back(c);
-    ++added;
+    const auto t = static_cast<size_t>(c);
+    if (forced_side_[t] != 0 || (interior_[t] != 0) == interior) continue;
+    if (interior) {
+      graph_->flow.ForceSourceSide(c);
+      forced_.push_back(c);
+    } else {
+      graph_->flow.ForceSinkSide(c);
+    }
+    forced_side_[t] = interior ? 1 : 2;
+    ++changed;
   }
-  if (added == 0) return 0;
+  if (changed == 0) return 0;
   graph_->flow.Resolve();
   for (size_t t = 0; t < interior_.size(); ++t)
     interior_[t] = graph_->flow.IsSourceSide(static_cast<int>(t)) ? 1 : 0;
-  return added;
+  return changed;
 }
 
 TriangleMesh TetGraphCut::Surface() const {

@@ -57,11 +57,16 @@ class TetGraphCut {
   // outwards.
   TriangleMesh Surface() const;
   // Ties the cells to the source and updates the cut (incrementally). Returns how many were
-  // not interior before.
+  // not interior before. Cells ForceExterior tied to the sink are skipped.
   size_t ForceInterior(const std::vector<int32_t>& cells);
+  // Ties the cells to the sink and updates the cut. Returns how many were interior before.
+  // Cells ForceInterior tied to the source are skipped.
+  size_t ForceExterior(const std::vector<int32_t>& cells);
 
   // The cells ForceInterior made interior, in order.
   const std::vector<int32_t>& Forced() const { return forced_; }
+  // Per cell: 1 if ForceInterior tied it to the source, 2 if ForceExterior to the sink, else 0.
+  const std::vector<uint8_t>& ForcedSide() const { return forced_side_; }
   // The mesh's faces (SortedCellFaces).
   const std::vector<CellFace>& Faces() const;
 
@@ -71,11 +76,13 @@ class TetGraphCut {
   double flow() const;
 
  private:
+  size_t Force(const std::vector<int32_t>& cells, bool interior);
   struct Graph;
   const TetMesh& mesh_;
   std::unique_ptr<Graph> graph_;
   std::vector<uint8_t> interior_;
   std::vector<int32_t> forced_;
+  std::vector<uint8_t> forced_side_;
   size_t links_ = 0, faces_scored_ = 0;
 };
 

@@ -118,11 +118,13 @@ TEST(MaxFlowGraph, MatchesBruteForceMinimumCut) {
   }
 }
 
-// Minimum cut capacity over the labellings with the bits of `forced` on the source side.
-double ForcedMinimumCut(const RandomGraph& g, unsigned forced) {
+// Minimum cut capacity over the labellings with the bits of `forced` on the source side and
+// those of `forced_out` on the sink side.
+double ForcedMinimumCut(const RandomGraph& g, unsigned forced, unsigned forced_out = 0) {
   double best = std::numeric_limits<double>::infinity();
   for (unsigned mask = 0; mask < (1u << g.n); ++mask) {
-    if ((mask & forced) == forced) best = std::min(best, CutCapacity(g, mask));
+    if ((mask & forced) == forced && (mask & forced_out) == 0)
+      best = std::min(best, CutCapacity(g, mask));
   }
   return best;
 }
@@ -154,6 +156,46 @@ TEST(MaxFlowGraph, ResolveMatchesBruteForceForcedCut) {
       for (int i = 0; i < kNodes; ++i)
         labels |= graph.IsSourceSide(i) ? (1u << i) : 0u;
       EXPECT_EQ(labels & forced, forced) << "seed " << seed << " round " << round;
+      EXPECT_NEAR(flow, best, 1e-9 * (1 + best)) << "seed " << seed << " round " << round;
+      EXPECT_NEAR(CutCapacity(g, labels), best, 1e-9 * (1 + best)) << "seed " << seed;
+    }
+  }
+}
+
+TEST(MaxFlowGraph, ResolveMatchesBruteForceCutWithNodesForcedToEitherSide) {
+  constexpr int kNodes = 10;
+  for (int seed = 0; seed < 50; ++seed) {
+    std::mt19937_64 rng(static_cast<uint64_t>(seed) + 200);
+    const RandomGraph g = MakeRandomGraph(rng, kNodes);
+    MaxFlowGraph graph(kNodes, static_cast<int64_t>(g.edges.size()));
+    graph.AddNodes(kNodes);
+    for (int i = 0; i < kNodes; ++i)
+      graph.AddTerminalCapacities(i, g.source[i], g.sink[i]);
+    for (const auto& e : g.edges)
+      graph.AddEdge(e.a, e.b, e.ab, e.ba);
+    graph.Solve();
+    // Four rounds alternating sinks and sources, each node forced at most to one side.
+    std::uniform_int_distribution<int> node(0, kNodes - 1);
+    unsigned in = 0, out = 0;
+    for (int round = 0; round < 4; ++round) {
+      for (int k = 0; k < 2; ++k) {
+        const int i = node(rng);
+        if (((in | out) >> i) & 1u) continue;
+        if (round % 2 == 0) {
+          graph.ForceSinkSide(i);
+          out |= 1u << i;
+        } else {
+          graph.ForceSourceSide(i);
+          in |= 1u << i;
+        }
+      }
+      const double flow = graph.Resolve();
+      const double best = ForcedMinimumCut(g, in, out);
+      unsigned labels = 0;
+      for (int i = 0; i < kNodes; ++i)
+        labels |= graph.IsSourceSide(i) ? (1u << i) : 0u;
+      EXPECT_EQ(labels & in, in) << "seed " << seed << " round " << round;
+      EXPECT_EQ(labels & out, 0u) << "seed " << seed << " round " << round;
       EXPECT_NEAR(flow, best, 1e-9 * (1 + best)) << "seed " << seed << " round " << round;
       EXPECT_NEAR(CutCapacity(g, labels), best, 1e-9 * (1 + best)) << "seed " << seed;
     }
