@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "shared/util/check.h"
@@ -129,18 +130,38 @@ double ForcedMinimumCut(const RandomGraph& g, unsigned forced, unsigned forced_o
   return best;
 }
 
+// The max-flow graph of `g`, solved.
+MaxFlowGraph SolvedGraph(const RandomGraph& g) {
+  MaxFlowGraph graph(g.n, static_cast<int64_t>(g.edges.size()));
+  graph.AddNodes(g.n);
+  for (int i = 0; i < g.n; ++i)
+    graph.AddTerminalCapacities(i, g.source[i], g.sink[i]);
+  for (const auto& e : g.edges)
+    graph.AddEdge(e.a, e.b, e.ab, e.ba);
+  graph.Solve();
+  return graph;
+}
+
+// Resolves `graph` (of `g`) and checks its flow and labels against the brute-force minimum cut
+// with the nodes of `in` on the source side and those of `out` on the sink side.
+void ExpectForcedCut(MaxFlowGraph* graph, const RandomGraph& g, unsigned in, unsigned out) {
+  const double flow = graph->Resolve();
+  const double best = ForcedMinimumCut(g, in, out);
+  unsigned labels = 0;
+  for (int i = 0; i < g.n; ++i)
+    labels |= graph->IsSourceSide(i) ? (1u << i) : 0u;
+  EXPECT_EQ(labels & in, in);
+  EXPECT_EQ(labels & out, 0u);
+  EXPECT_NEAR(flow, best, 1e-9 * (1 + best));
+  EXPECT_NEAR(CutCapacity(g, labels), best, 1e-9 * (1 + best));
+}
+
 TEST(MaxFlowGraph, ResolveMatchesBruteForceForcedCut) {
   constexpr int kNodes = 10;
   for (int seed = 0; seed < 50; ++seed) {
     std::mt19937_64 rng(static_cast<uint64_t>(seed) + 100);
     const RandomGraph g = MakeRandomGraph(rng, kNodes);
-    MaxFlowGraph graph(kNodes, static_cast<int64_t>(g.edges.size()));
-    graph.AddNodes(kNodes);
-    for (int i = 0; i < kNodes; ++i)
-      graph.AddTerminalCapacities(i, g.source[i], g.sink[i]);
-    for (const auto& e : g.edges)
-      graph.AddEdge(e.a, e.b, e.ab, e.ba);
-    graph.Solve();
+    MaxFlowGraph graph = SolvedGraph(g);
     // Three rounds, each forcing one or two more nodes (possibly again).
     std::uniform_int_distribution<int> node(0, kNodes - 1);
     unsigned forced = 0;
@@ -150,14 +171,8 @@ TEST(MaxFlowGraph, ResolveMatchesBruteForceForcedCut) {
         graph.ForceSourceSide(i);
         forced |= 1u << i;
       }
-      const double flow = graph.Resolve();
-      const double best = ForcedMinimumCut(g, forced);
-      unsigned labels = 0;
-      for (int i = 0; i < kNodes; ++i)
-        labels |= graph.IsSourceSide(i) ? (1u << i) : 0u;
-      EXPECT_EQ(labels & forced, forced) << "seed " << seed << " round " << round;
-      EXPECT_NEAR(flow, best, 1e-9 * (1 + best)) << "seed " << seed << " round " << round;
-      EXPECT_NEAR(CutCapacity(g, labels), best, 1e-9 * (1 + best)) << "seed " << seed;
+      SCOPED_TRACE("seed " + std::to_string(seed) + " round " + std::to_string(round));
+      ExpectForcedCut(&graph, g, forced, 0);
     }
   }
 }
@@ -167,13 +182,7 @@ TEST(MaxFlowGraph, ResolveMatchesBruteForceCutWithNodesForcedToEitherSide) {
   for (int seed = 0; seed < 50; ++seed) {
     std::mt19937_64 rng(static_cast<uint64_t>(seed) + 200);
     const RandomGraph g = MakeRandomGraph(rng, kNodes);
-    MaxFlowGraph graph(kNodes, static_cast<int64_t>(g.edges.size()));
-    graph.AddNodes(kNodes);
-    for (int i = 0; i < kNodes; ++i)
-      graph.AddTerminalCapacities(i, g.source[i], g.sink[i]);
-    for (const auto& e : g.edges)
-      graph.AddEdge(e.a, e.b, e.ab, e.ba);
-    graph.Solve();
+    MaxFlowGraph graph = SolvedGraph(g);
     // Four rounds alternating sinks and sources, each node forced at most to one side.
     std::uniform_int_distribution<int> node(0, kNodes - 1);
     unsigned in = 0, out = 0;
@@ -189,15 +198,8 @@ TEST(MaxFlowGraph, ResolveMatchesBruteForceCutWithNodesForcedToEitherSide) {
           in |= 1u << i;
         }
       }
-      const double flow = graph.Resolve();
-      const double best = ForcedMinimumCut(g, in, out);
-      unsigned labels = 0;
-      for (int i = 0; i < kNodes; ++i)
-        labels |= graph.IsSourceSide(i) ? (1u << i) : 0u;
-      EXPECT_EQ(labels & in, in) << "seed " << seed << " round " << round;
-      EXPECT_EQ(labels & out, 0u) << "seed " << seed << " round " << round;
-      EXPECT_NEAR(flow, best, 1e-9 * (1 + best)) << "seed " << seed << " round " << round;
-      EXPECT_NEAR(CutCapacity(g, labels), best, 1e-9 * (1 + best)) << "seed " << seed;
+      SCOPED_TRACE("seed " + std::to_string(seed) + " round " + std::to_string(round));
+      ExpectForcedCut(&graph, g, in, out);
     }
   }
 }
