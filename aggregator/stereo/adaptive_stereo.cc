@@ -101,8 +101,12 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   start = Clock::now();
   TetSurfaceOptions surface_options = options.surface;
   surface_options.max_vertex_shift = stats.finest_spacing / 2;
+  // The pinch repair keeps out of cells outside the hull or made exterior by the silhouettes.
+  std::vector<uint8_t> avoid(labels.size(), 0);
+  for (size_t t = 0; t < labels.size(); ++t)
+    avoid[t] = labels[t] == CellLabel::kExterior || cut.ForcedSide()[t] == 2 ? 1 : 0;
   result.surface = ExtractTetSurface(mesh, cut.Faces(), cut.Interior(), surface_options,
-                                     cut.Forced(), &stats.repaired);
+                                     cut.Forced(), avoid, &stats.repaired);
   stats.seconds_surface = SecondsSince(start);
   if (progress) progress->Advance();
   spdlog::info(

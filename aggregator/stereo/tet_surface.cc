@@ -102,8 +102,9 @@ TriangleMesh InteriorBoundary(const TetMesh& mesh, const std::vector<CellFace>& 
 }
 
 size_t RepairPinches(const TetMesh& mesh, const std::vector<CellFace>& faces,
-                     std::vector<uint8_t>* interior) {
+                     std::vector<uint8_t>* interior, const std::vector<uint8_t>& avoid) {
   SILNET_CHECK(interior->size() == mesh.tetrahedra.size());
+  SILNET_CHECK(avoid.empty() || avoid.size() == mesh.tetrahedra.size());
   // Cells around each vertex (CSR).
   const size_t vertices = mesh.vertices.size();
   std::vector<size_t> begin(vertices + 1, 0);
@@ -176,22 +177,25 @@ size_t RepairPinches(const TetMesh& mesh, const std::vector<CellFace>& faces,
       k = j;
     }
     size_t grown = 0;
-    const auto grow = [&](int32_t cell) {
-      uint8_t& in = (*interior)[static_cast<size_t>(cell)];
-      if (!in) {
-        in = 1;
+    // Cells to avoid only when nothing else is left to add.
+    for (const bool allow_avoided : {false, true}) {
+      const auto grow = [&](int32_t cell) {
+        const auto c = static_cast<size_t>(cell);
+        if ((*interior)[c] || (!allow_avoided && !avoid.empty() && avoid[c])) return;
+        (*interior)[c] = 1;
         ++grown;
+      };
+      for (const auto& [a, b] : pinched_edges) {
+        for (size_t i = begin[static_cast<size_t>(a)]; i < begin[static_cast<size_t>(a) + 1]; ++i) {
+          const Tetrahedron& t = mesh.tetrahedra[static_cast<size_t>(cells[i])];
+          if (std::find(t.begin(), t.end(), b) != t.end()) grow(cells[i]);
+        }
       }
-    };
-    for (const auto& [a, b] : pinched_edges) {
-      for (size_t i = begin[static_cast<size_t>(a)]; i < begin[static_cast<size_t>(a) + 1]; ++i) {
-        const Tetrahedron& t = mesh.tetrahedra[static_cast<size_t>(cells[i])];
-        if (std::find(t.begin(), t.end(), b) != t.end()) grow(cells[i]);
-      }
+      for (int32_t v : pinched)
+        for (size_t i = begin[static_cast<size_t>(v)]; i < begin[static_cast<size_t>(v) + 1]; ++i)
+          grow(cells[i]);
+      if (grown > 0) break;
     }
-    for (int32_t v : pinched)
-      for (size_t i = begin[static_cast<size_t>(v)]; i < begin[static_cast<size_t>(v) + 1]; ++i)
-        grow(cells[i]);
     added += grown;
     if (grown == 0) break;
   }
@@ -200,8 +204,9 @@ size_t RepairPinches(const TetMesh& mesh, const std::vector<CellFace>& faces,
 
 TriangleMesh ExtractTetSurface(const TetMesh& mesh, const std::vector<CellFace>& faces,
                                std::vector<uint8_t> interior, const TetSurfaceOptions& options,
-                               const std::vector<int32_t>& pinned, size_t* repaired) {
-  const size_t grown = RepairPinches(mesh, faces, &interior);
+                               const std::vector<int32_t>& pinned,
+                               const std::vector<uint8_t>& avoid, size_t* repaired) {
+  const size_t grown = RepairPinches(mesh, faces, &interior, avoid);
   if (repaired) *repaired = grown;
   std::vector<int32_t> remap;  // mesh vertex -> surface vertex, to pin cell corners
   TriangleMesh surface = BoundaryMesh(mesh, faces, interior, &remap);

@@ -30,9 +30,10 @@ TriangleMesh InteriorBoundary(const TetMesh& mesh, const std::vector<CellFace>& 
                               const std::vector<uint8_t>& interior);
 
 // Adds to the interior every cell around the boundary's non-manifold edges and vertices until
-// it has none. Returns the cells added.
+// it has none; cells with avoid[cell] != 0 (`avoid` empty or one per cell: e.g. cells outside
+// the silhouettes) only in a round where no other cell is left to add. Returns the cells added.
 size_t RepairPinches(const TetMesh& mesh, const std::vector<CellFace>& faces,
-                     std::vector<uint8_t>* interior);
+                     std::vector<uint8_t>* interior, const std::vector<uint8_t>& avoid = {});
 
 // Settings of the final surface.
 struct TetSurfaceOptions {
@@ -42,10 +43,12 @@ struct TetSurfaceOptions {
   double max_vertex_shift = 0.0;  // metres per axis from the cells' corner
 };
 
-// The interior's boundary after RepairPinches, smoothed; the corners of `pinned` cells keep
-// their places (a silhouette pixel whose ray crosses such a cell stays covered).
+// The interior's boundary after RepairPinches (avoiding `avoid` cells), smoothed; the corners
+// of `pinned` cells keep their places (a silhouette pixel whose ray crosses such a cell stays
+// covered).
 TriangleMesh ExtractTetSurface(const TetMesh& mesh, const std::vector<CellFace>& faces,
                                std::vector<uint8_t> interior, const TetSurfaceOptions& options,
-                               const std::vector<int32_t>& pinned, size_t* repaired = nullptr);
+                               const std::vector<int32_t>& pinned,
+                               const std::vector<uint8_t>& avoid = {}, size_t* repaired = nullptr);
 
 }  // namespace silnet::aggregator

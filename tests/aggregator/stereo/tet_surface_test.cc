@@ -41,6 +41,37 @@ TEST(TetSurfaceTest, TwoBlocksTouchingAtAnEdgeAreJoinedIntoAManifold) {
   EXPECT_TRUE(CheckClosedManifold(smooth).closed_manifold);
 }
 
+TEST(TetSurfaceTest, PinchRepairKeepsOutOfAvoidedCellsWhereItCan) {
+  const TetMesh mesh =
+      BuildBccLattice(WorldBox(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones()), 0.125);
+  // The blocks of the test above; the cells on one side of the pinch line (x < 0.5 < y) are
+  // to be avoided, the other side (y < 0.5 < x) can close it.
+  std::vector<uint8_t> interior(mesh.tetrahedra.size(), 0), avoid(mesh.tetrahedra.size(), 0);
+  for (size_t t = 0; t < mesh.tetrahedra.size(); ++t) {
+    const Eigen::Vector3d c = Centroid(mesh, mesh.tetrahedra[t]);
+    const bool low = c.x() > 0.25 && c.x() < 0.5 && c.y() > 0.25 && c.y() < 0.5;
+    const bool high = c.x() > 0.5 && c.x() < 0.75 && c.y() > 0.5 && c.y() < 0.75;
+    if ((low || high) && c.z() > 0.25 && c.z() < 0.75) interior[t] = 1;
+    avoid[t] = c.x() < 0.5 && c.y() > 0.5 ? 1 : 0;
+  }
+  const std::vector<CellFace> faces = SortedCellFaces(mesh);
+  // Unconstrained, the repair takes cells from both sides.
+  std::vector<uint8_t> free_repair = interior;
+  RepairPinches(mesh, faces, &free_repair);
+  size_t taken = 0;
+  for (size_t t = 0; t < avoid.size(); ++t)
+    taken += avoid[t] && free_repair[t] ? 1 : 0;
+  EXPECT_GT(taken, 0u);
+  EXPECT_GT(RepairPinches(mesh, faces, &interior, avoid), 0u);
+  const MeshCheck check = CheckClosedManifold(InteriorBoundary(mesh, faces, interior));
+  EXPECT_TRUE(check.closed_manifold) << check.reason;
+  for (size_t t = 0; t < interior.size(); ++t) {
+    if (avoid[t]) {
+      EXPECT_FALSE(interior[t]) << t;
+    }
+  }
+}
+
 TEST(TetPointLocatorTest, FindsTheTetrahedronHoldingEachPoint) {
   const WorldBox box(Eigen::Vector3d::Zero(), Eigen::Vector3d(1.0, 0.5, 0.75));
   const TetMesh mesh = BuildBccLattice(box, 0.125);
