@@ -422,8 +422,8 @@ StereoJobResult RunSixteenViews(sim::RigLayout layout) {
 // The adaptive tetrahedral method (thesis ch. 7, --method adaptive) on the same stills: a
 // closed model that explains its silhouettes and beats the hull, about as accurate as the
 // uniform lattice on these few small views, and the local refinement improves on its cut
-// (measured 2026-11-26 with the visibility-based ballooning: 1.08 fp, 92.7 / 98.5 % within
-// 1 / 2 fp, the cut 1.53 fp, 98.8 %; without ballooning 1.77 fp; uniform 1.07 fp,
+// (measured 2026-11-26 with the visibility-based ballooning: 1.05 fp, 92.7 / 98.5 % within
+// 1 / 2 fp, the cut 1.51 fp, 98.8 %; without ballooning 1.77 fp; uniform 1.07 fp,
 // 93.6 / 98.6 %; hull 4.29 fp, 94.0 %; docs/PERFORMANCE.md).
 TEST(StereoJobTest, AdaptiveMethodGivesAClosedSilhouetteConsistentModel) {
   const std::filesystem::path& input = SmallStills();
@@ -471,7 +471,7 @@ TEST(StereoJobTest, SixteenViewRingMeetsTheAccuracyTargetsAndCoversItsSilhouette
 // Issue 18's acceptance on the ring: the adaptive method at least as accurate as the uniform
 // lattice and as complete within 2 footprints, as exactly silhouette-consistent up to a few
 // pixels, in one piece with the statue's one through-hole (the arm loop) plus at most a few
-// specks (measured 2026-11-26: adaptive 0.52 fp, 97.6 / 99.5 % within 1 / 2 fp, 1 inner pixel
+// specks (measured 2026-11-26: adaptive 0.53 fp, 97.6 / 99.5 % within 1 / 2 fp, 1 inner pixel
 // missed of ~210 k, 14 pieces, genus 1; uniform 0.67 fp, 97.8 / 99.5 %, 171 pieces, genus 2).
 TEST(StereoJobTest, SixteenViewRingAdaptiveMethodIsAtLeastAsGoodAsTheUniformLattice) {
   const std::filesystem::path& input = SixteenViewStills(sim::RigLayout::kRing);
