@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <cstdint>
 #include <map>
-#include <numeric>
 #include <utility>
 #include <vector>
+
+#include "shared/util/disjoint_sets.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -55,27 +56,6 @@ Face MakeFace(const Lattice& voxel, int dir) {
   }
   return face;
 }
-
-// Union-find over face corner slots (4 per face).
-class DisjointSets {
- public:
-  explicit DisjointSets(size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-  size_t Find(size_t x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-  void Union(size_t a, size_t b) {
-    a = Find(a);
-    b = Find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<size_t> parent_;
-};
 
 class BoundaryMesher {
  public:

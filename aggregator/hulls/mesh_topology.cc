@@ -2,23 +2,11 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <numeric>
 #include <utility>
 
+#include "shared/util/disjoint_sets.h"
+
 namespace silnet::aggregator {
-namespace {
-
-// Root of x in a union-find forest with path halving.
-uint32_t Root(std::vector<uint32_t>& parent, uint32_t x) {
-  while (parent[x] != x) {
-    parent[x] = parent[parent[x]];
-    x = parent[x];
-  }
-  return x;
-}
-
-}  // namespace
-
 std::vector<MeshComponent> MeshComponents(const TriangleMesh& mesh) {
   const size_t n = mesh.vertices.size();
   std::vector<std::array<int32_t, 3>> triangles;
@@ -28,15 +16,12 @@ std::vector<MeshComponent> MeshComponents(const TriangleMesh& mesh) {
         t.begin(), t.end(), [n](int32_t v) { return v >= 0 && static_cast<size_t>(v) < n; });
     if (in_range && t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) triangles.push_back(t);
   }
-  std::vector<uint32_t> parent(n);
-  std::iota(parent.begin(), parent.end(), 0u);
+  DisjointSets sets(n);
   std::vector<uint8_t> used(n, 0);
   for (const auto& t : triangles) {
     for (int k = 0; k < 3; ++k) {
       used[static_cast<size_t>(t[k])] = 1;
-      const uint32_t a = Root(parent, static_cast<uint32_t>(t[k]));
-      const uint32_t b = Root(parent, static_cast<uint32_t>(t[(k + 1) % 3]));
-      if (a != b) parent[a] = b;
+      sets.Union(static_cast<size_t>(t[k]), static_cast<size_t>(t[(k + 1) % 3]));
     }
   }
   // Piece index per root, in order of first appearance.
@@ -44,7 +29,7 @@ std::vector<MeshComponent> MeshComponents(const TriangleMesh& mesh) {
   std::vector<MeshComponent> pieces;
   for (size_t v = 0; v < n; ++v) {
     if (!used[v]) continue;
-    int32_t& p = piece[Root(parent, static_cast<uint32_t>(v))];
+    int32_t& p = piece[sets.Find(v)];
     if (p < 0) {
       p = static_cast<int32_t>(pieces.size());
       pieces.emplace_back();
@@ -54,7 +39,7 @@ std::vector<MeshComponent> MeshComponents(const TriangleMesh& mesh) {
   std::vector<std::pair<uint64_t, int32_t>> edges;  // (undirected edge key, piece)
   edges.reserve(3 * triangles.size());
   for (const auto& t : triangles) {
-    const int32_t p = piece[Root(parent, static_cast<uint32_t>(t[0]))];
+    const int32_t p = piece[sets.Find(static_cast<size_t>(t[0]))];
     ++pieces[static_cast<size_t>(p)].triangles;
     for (int k = 0; k < 3; ++k) {
       const auto a = static_cast<uint32_t>(std::min(t[k], t[(k + 1) % 3]));
