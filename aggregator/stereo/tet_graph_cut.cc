@@ -119,12 +119,10 @@ size_t TetGraphCut::Force(const std::vector<int32_t>& cells, bool interior) {
   for (int32_t c : cells) {
     const auto t = static_cast<size_t>(c);
     if (forced_side_[t] != 0 || (interior_[t] != 0) == interior) continue;
-    if (interior) {
+    if (interior)
       graph_->flow.ForceSourceSide(c);
-      forced_.push_back(c);
-    } else {
+    else
       graph_->flow.ForceSinkSide(c);
-    }
     forced_side_[t] = interior ? 1 : 2;
     ++changed;
   }
@@ -133,6 +131,13 @@ size_t TetGraphCut::Force(const std::vector<int32_t>& cells, bool interior) {
   for (size_t t = 0; t < interior_.size(); ++t)
     interior_[t] = graph_->flow.IsSourceSide(static_cast<int>(t)) ? 1 : 0;
   return changed;
+}
+
+std::vector<int32_t> TetGraphCut::Forced() const {
+  std::vector<int32_t> cells;
+  for (size_t t = 0; t < forced_side_.size(); ++t)
+    if (forced_side_[t] == 1) cells.push_back(static_cast<int32_t>(t));
+  return cells;
 }
 
 TriangleMesh TetGraphCut::Surface() const {

@@ -63,8 +63,8 @@ class TetGraphCut {
   // Cells ForceInterior tied to the source are skipped.
   size_t ForceExterior(const std::vector<int32_t>& cells);
 
-  // The cells ForceInterior made interior, in order.
-  const std::vector<int32_t>& Forced() const { return forced_; }
+  // The cells ForceInterior made interior, ascending.
+  std::vector<int32_t> Forced() const;
   // Per cell: 1 if ForceInterior tied it to the source, 2 if ForceExterior to the sink, else 0.
   const std::vector<uint8_t>& ForcedSide() const { return forced_side_; }
   // The mesh's faces (SortedCellFaces).
@@ -81,7 +81,6 @@ class TetGraphCut {
   const TetMesh& mesh_;
   std::unique_ptr<Graph> graph_;
   std::vector<uint8_t> interior_;
-  std::vector<int32_t> forced_;
   std::vector<uint8_t> forced_side_;
   size_t links_ = 0, faces_scored_ = 0;
 };
