@@ -49,8 +49,15 @@ BackgroundDifference SegmentAgainstBackground(const cv::Mat& still, const cv::Ma
     result.camouflaged_holes_filled =
         FillCamouflagedHoles(&result.mask, still, background, camouflage);
   }
-  if (options.mark_weak_silhouette)
-    result.weak_pixels = MarkWeakSilhouette(&result.mask, still, background, o, options.weak);
+  cv::Mat trimmed;
+  if (options.trim_partly_covered_outline) {
+    result.outline_pixels_trimmed =
+        TrimPartlyCoveredOutline(&result.mask, still, background, &trimmed, options.outline);
+  }
+  if (options.mark_weak_silhouette) {
+    result.weak_pixels = MarkWeakSilhouette(&result.mask, still, background, o, options.weak,
+                                            trimmed.empty() ? nullptr : &trimmed);
+  }
   return result;
 }
 

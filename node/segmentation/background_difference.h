@@ -7,13 +7,15 @@
 // (darker by a ratio in [shadow_min_ratio, shadow_max_ratio] with unchanged chromaticity and the
 // background's texture, thesis B-1.1, shadow_texture.h); then the node's clean-up
 // (node/segmentation/mask_cleanup.h: opening, closing, small blobs removed, small holes filled)
-// applies, and holes that show the subject's texture rather than the background's are filled
-// (camouflaged_holes.h).
+// applies, holes that show the subject's texture rather than the background's are filled
+// (camouflaged_holes.h), and outline pixels the subject covers less than half of are dropped
+// (outline_coverage.h).
 
 #include <opencv2/core/mat.hpp>
 
 #include "node/segmentation/camouflaged_holes.h"
 #include "node/segmentation/mask_cleanup.h"
+#include "node/segmentation/outline_coverage.h"
 #include "node/segmentation/segmentation_options.h"
 #include "node/segmentation/weak_silhouette.h"
 
@@ -28,6 +30,8 @@ struct BackgroundDifferenceOptions {
   SegmentationOptions node;
   bool fill_camouflaged_holes = true;
   CamouflageOptions camouflage;
+  bool trim_partly_covered_outline = true;
+  OutlineCoverageOptions outline;
   // Mark weak evidence beside the silhouette with kWeakSilhouette (weak_silhouette.h) for a
   // multi-view check downstream; off: the mask is 0/255.
   bool mark_weak_silhouette = false;
@@ -40,7 +44,8 @@ struct BackgroundDifference {
   cv::Mat mask;
   CleanupStats cleanup;
   int camouflaged_holes_filled = 0;
-  int weak_pixels = 0;  // marked kWeakSilhouette
+  int outline_pixels_trimmed = 0;  // partly covered, dropped
+  int weak_pixels = 0;             // marked kWeakSilhouette
 };
 BackgroundDifference SegmentAgainstBackground(const cv::Mat& still, const cv::Mat& background,
                                               const BackgroundDifferenceOptions& options = {});

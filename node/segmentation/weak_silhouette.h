@@ -25,10 +25,14 @@ struct WeakSilhouetteOptions {
 // Marks the background pixels of `mask` (CV_8UC1, 255 silhouette, 0 background) that are
 // weak evidence of the subject against `background` in `still` (CV_8UC3, the mask's size) and
 // connected (8-neighbourhood) to the silhouette through such pixels, with kWeakSilhouette.
-// Pixels that look like a shadow by the segmentation's colour test (shadow_texture.h) are not
-// evidence. Returns how many.
+// The difference is taken after a 3x3 Gaussian blur over the pixels outside the silhouette
+// only, so a contrasting outline does not make its outer neighbours evidence. Pixels that look
+// like a shadow by the segmentation's colour test (shadow_texture.h) are not evidence, nor are
+// the non-zero pixels of `excluded` (CV_8UC1, the mask's size; may be null: e.g. outline
+// pixels already judged background by their colour). Returns how many.
 int MarkWeakSilhouette(cv::Mat* mask, const cv::Mat& still, const cv::Mat& background,
                        const SegmentationOptions& segmentation,
-                       const WeakSilhouetteOptions& options = {});
+                       const WeakSilhouetteOptions& options = {},
+                       const cv::Mat* excluded = nullptr);
 
 }  // namespace silnet::node

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -154,8 +155,60 @@ TEST(BackgroundDifferenceTest, MarksWeakEvidenceBesideTheSilhouette) {
   EXPECT_EQ(cv::countNonZero(marked.mask(patch)), 0);
   EXPECT_GE(cv::countNonZero(marked.mask(subject) == 255), 0.97 * subject.area());
   EXPECT_EQ(marked.weak_pixels, cv::countNonZero(marked.mask == kWeakSilhouette));
+  // The subject's own contrast does not spill into the wall beside it (a blur over the whole
+  // image marked a band one pixel wide all round it).
+  cv::Mat ring = cv::Mat::zeros(still.size(), CV_8UC1);
+  ring(cv::Rect(subject.x - 2, subject.y - 2, subject.width + 4, subject.height + 4)).setTo(255);
+  ring(subject).setTo(0);
+  ring(pole).setTo(0);
+  EXPECT_EQ(cv::countNonZero(ring & (marked.mask == kWeakSilhouette)), 0);
   const BackgroundDifference plain = SegmentAgainstBackground(WithNoise(still, 7, 1.0), background);
   EXPECT_EQ(cv::countNonZero((plain.mask != 0) & (plain.mask != 255)), 0);
+}
+
+// A disc drawn with its outline pixels mixing its colour and the wall's by how much of each
+// pixel it covers (8x8 samples per pixel), as a camera sees it: the silhouette is the pixels
+// whose centre is inside, to within the pixels the disc covers about half of. The plain
+// threshold takes the outline pixels it covers by a small fraction too, a band round the disc.
+TEST(BackgroundDifferenceTest, DropsOutlinePixelsTheSubjectCoversLessThanHalf) {
+  for (int seed = 1; seed <= 3; ++seed) {
+    const cv::Mat background = Background(seed);
+    cv::Mat still = background.clone();
+    cv::Mat centres = cv::Mat::zeros(still.size(), CV_8UC1);
+    cv::Mat coverage(still.size(), CV_64F, cv::Scalar(0.0));
+    const cv::Point2d centre(80.3 + seed * 0.17, 60.6 - seed * 0.23);
+    const double radius = 30.4;
+    const cv::Vec3d colour(40, 60, 210);
+    for (int y = 0; y < still.rows; ++y) {
+      for (int x = 0; x < still.cols; ++x) {
+        int in = 0;
+        for (int j = 0; j < 8; ++j) {
+          for (int i = 0; i < 8; ++i) {
+            in += std::hypot(x - 0.5 + (i + 0.5) / 8 - centre.x,
+                             y - 0.5 + (j + 0.5) / 8 - centre.y) < radius;
+          }
+        }
+        const double a = in / 64.0;
+        coverage.at<double>(y, x) = a;
+        cv::Vec3b& pixel = still.at<cv::Vec3b>(y, x);
+        for (int c = 0; c < 3; ++c)
+          pixel[c] = cv::saturate_cast<uint8_t>(a * colour[c] + (1 - a) * pixel[c]);
+        if (std::hypot(x - centre.x, y - centre.y) < radius) centres.at<uint8_t>(y, x) = 255;
+      }
+    }
+    const cv::Mat photo = WithNoise(still, 300 + seed, 1.5);
+    const cv::Mat uncertain = (coverage > 0.3) & (coverage < 0.7);
+    const auto wrong = [&](const cv::Mat& mask) {
+      return cv::countNonZero((mask != centres) & ~uncertain);
+    };
+    BackgroundDifferenceOptions plain;
+    plain.trim_partly_covered_outline = false;
+    const int before = wrong(SegmentAgainstBackground(photo, background, plain).mask);
+    const BackgroundDifference trimmed = SegmentAgainstBackground(photo, background);
+    EXPECT_GT(before, 20) << "seed " << seed;
+    EXPECT_LE(wrong(trimmed.mask), 2) << "seed " << seed;
+    EXPECT_GE(trimmed.outline_pixels_trimmed, before) << "seed " << seed;
+  }
 }
 
 TEST(BackgroundDifferenceTest, RejectsImagesOfDifferentSizes) {
