@@ -34,9 +34,10 @@ std::pair<Eigen::Vector3d, double> SubjectSphere(const std::vector<StereoView>& 
   return {centre, radius};
 }
 
-// True if the ray of pixel (x, y) of view `v` meets the visual hull of the other views.
+// True if the ray of pixel (x, y) of view `v` meets the visual hull of the other views'
+// silhouettes with their weak pixels (value `weak`).
 bool OthersSupport(const std::vector<StereoView>& views, size_t v, int x, int y,
-                   const Eigen::Vector3d& centre, double radius) {
+                   const Eigen::Vector3d& centre, double radius, uint8_t weak) {
   const CameraModel& camera = views[v].camera;
   const Eigen::Vector3d origin = camera.Center();
   const Eigen::Vector3d direction =
@@ -60,8 +61,12 @@ bool OthersSupport(const std::vector<StereoView>& views, size_t v, int x, int y,
       const int u = static_cast<int>(std::lround(pixel->x()));
       const int w = static_cast<int>(std::lround(pixel->y()));
       const cv::Mat& mask = views[o].mask;
-      inside_all =
-          u >= 0 && w >= 0 && u < mask.cols && w < mask.rows && mask.at<uint8_t>(w, u) == 255;
+      if (u < 0 || w < 0 || u >= mask.cols || w >= mask.rows) {
+        inside_all = false;
+        break;
+      }
+      const uint8_t value = mask.at<uint8_t>(w, u);
+      inside_all = value == 255 || value == weak;
     }
     if (inside_all) return true;
   }
@@ -86,7 +91,7 @@ SilhouetteConsensus ResolveWeakSilhouettes(std::vector<StereoView>* views, uint8
       for (int x = 0; x < mask.cols; ++x) {
         if (in[x] != weak) continue;
         ++result.candidates;
-        if (enough && OthersSupport(*views, v, x, y, centre, radius)) {
+        if (enough && OthersSupport(*views, v, x, y, centre, radius, weak)) {
           out[x] = 255;
           ++result.kept;
         }

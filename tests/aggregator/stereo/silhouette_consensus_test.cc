@@ -69,5 +69,27 @@ TEST(SilhouetteConsensus, KeepsWeakPixelsTheOtherViewsSupportAndDropsTheRest) {
   EXPECT_EQ(cv::countNonZero(pair[0].mask), cv::countNonZero(inner));
 }
 
+// A thin part faint in several views (a dark pole against a dark wall): the sphere's upper cap
+// weak in views 0 and 1 alike. Each view's cap is confirmed by the other's weak pixels
+// together with the silhouettes of views 2 and 3.
+TEST(SilhouetteConsensus, WeakPixelsOfSeveralViewsConfirmEachOther) {
+  std::vector<StereoView> views;
+  for (int k = 0; k < 4; ++k)
+    views.push_back(RingView(k, 4));
+  std::vector<cv::Mat> caps;
+  for (int v = 0; v < 2; ++v) {
+    cv::Mat cap = views[v].mask.clone();
+    cap(cv::Rect(0, 45, 160, 75)).setTo(0);  // rows above 45: the top of the sphere's disc
+    ASSERT_GT(cv::countNonZero(cap), 100);
+    views[v].mask.setTo(kWeak, cap);
+    caps.push_back(cap);
+  }
+  const SilhouetteConsensus consensus = ResolveWeakSilhouettes(&views, kWeak);
+  EXPECT_EQ(consensus.candidates,
+            static_cast<size_t>(cv::countNonZero(caps[0]) + cv::countNonZero(caps[1])));
+  for (int v = 0; v < 2; ++v)
+    EXPECT_GE(cv::countNonZero(views[v].mask & caps[v]), 0.9 * cv::countNonZero(caps[v])) << v;
+}
+
 }  // namespace
 }  // namespace silnet::aggregator
