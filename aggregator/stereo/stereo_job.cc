@@ -113,7 +113,8 @@ bool AdaptiveModel(const StereoJobConfig& config, const StereoViews& views,
       truth && truth->footprint > 0 ? truth->footprint : MeanFootprint(views.views, hull.mesh);
   AdaptiveStereoOptions adaptive = config.adaptive;
   adaptive.threads = config.threads;
-  AdaptiveStereoResult run = RunAdaptiveStereo(views.views, hull.mesh, result->footprint, adaptive);
+  AdaptiveStereoResult run =
+      RunAdaptiveStereo(views.views, hull.mesh, result->footprint, adaptive, progress);
   result->adaptive = run.stats;
   result->seconds.graph_cut = SecondsSince(stage);
   if (Cancelled(progress, result)) return false;

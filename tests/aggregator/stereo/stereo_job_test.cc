@@ -614,6 +614,31 @@ TEST(StereoJobTest, FailureIsDataAndLeavesNoModel) {
   EXPECT_THROW(RunStereoJob(config, nullptr), InputError);
 }
 
+// The adaptive method reports its stages to the job's progress and stops when it is cancelled
+// mid-job (the job once ran the whole adaptive stage through a SIGTERM).
+TEST(StereoJobTest, AdaptiveMethodStopsWhenCancelledMidJob) {
+  const std::filesystem::path& input = SmallStills();
+  silnet::testing::TempDir out;
+  StereoJobConfig config = ConfigFor(input, out.path());
+  config.method = StereoMethod::kAdaptive;
+  Progress* self = nullptr;
+  bool adaptive_reported = false;
+  Progress progress(
+      "stereo", 0,
+      [&](const ProgressUpdate& update) {
+        if (update.task != "adaptive stereo") return;
+        adaptive_reported = true;
+        self->Cancel();
+      },
+      std::chrono::milliseconds(0));
+  self = &progress;
+  const StereoJobResult result = RunStereoJob(config, &progress);
+  EXPECT_TRUE(adaptive_reported);
+  EXPECT_FALSE(result.success);
+  EXPECT_EQ(result.reason, "cancelled");
+  EXPECT_FALSE(std::filesystem::exists(out / "model.ply"));
+}
+
 // --leave-out: the named cameras are not loaded (and said so); a name that is no loaded
 // view, or leaving fewer than two views, is an input error.
 TEST(StereoJobTest, LeftOutCamerasAreNotUsedAndUnknownOnesAreAnInputError) {
