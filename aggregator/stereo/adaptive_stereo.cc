@@ -72,14 +72,14 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   std::vector<uint32_t> votes;
   const std::vector<CellLabel> labels =
       LabelCells(mesh, levels, adaptive.levels.back().level, scorer, cameras, adaptive.points,
-                 label_options, &stats.labels, &votes);
+                 label_options, &stats.labels, &votes, progress);
   stats.seconds_labels = SecondsSince(start);
   if (cancelled()) return result;
 
   start = Clock::now();
   TetGraphCutOptions cut_options = options.cut;
   cut_options.threads = options.threads;
-  TetGraphCut cut(mesh, labels, votes, scorer, footprint, cut_options);
+  TetGraphCut cut(mesh, labels, votes, scorer, footprint, cut_options, progress);
   stats.links = cut.links();
   stats.faces_scored = cut.faces_scored();
   stats.seconds_cut = SecondsSince(start);

@@ -121,7 +121,8 @@ AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const
     }
     const size_t sampled_before = crossing.SampledFaces();
     const size_t scored_before = crossing.SamplesScored();
-    crossing.Sample(ids, corners, &result.points);
+    crossing.Sample(ids, corners, &result.points, progress);
+    if (progress && progress->cancelled()) break;
     stats.faces_sampled = crossing.SampledFaces() - sampled_before;
     stats.samples_scored = crossing.SamplesScored() - scored_before;
 

@@ -83,7 +83,7 @@ FaceSamples CrossingFaces::CountPart(const Lattice& lattice,
 
 void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
                            const std::vector<TriangleCorners>& corners,
-                           std::vector<OrientedPoint>* points) {
+                           std::vector<OrientedPoint>* points, const Progress* cancel) {
   SILNET_CHECK(ids.size() == corners.size());
   // The faces not known yet, each once however often `ids` lists it.
   std::vector<std::pair<std::array<int32_t, 3>, size_t>> unknown;
@@ -99,7 +99,7 @@ void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
   std::vector<Part> results(fresh.size());
   std::vector<OrientedPoint> best(fresh.size());
   std::vector<size_t> scored(fresh.size(), 0);
-  ParallelFor(fresh.size(), options_.threads, [&](size_t k) {
+  ParallelFor(fresh.size(), options_.threads, cancel, [&](size_t k) {
     const size_t f = fresh[k];
     const TriangleCorners& c = corners[f];
     const double longest =
@@ -139,6 +139,7 @@ void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
     part.ids = ids[f];
     part.counts = CountPart(*part.lattice, part.corner);
   });
+  if (cancel && cancel->cancelled()) return;
   for (size_t k = 0; k < fresh.size(); ++k) {
     samples_scored_ += scored[k];
     if (best[k].score >= options_.min_score) points->push_back(best[k]);

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "aggregator/stereo/patch_photo_consistency.h"
+#include "shared/util/progress.h"
 
 namespace silnet::aggregator {
 
@@ -62,9 +63,11 @@ class CrossingFaces {
 
   // Samples every face not known yet (in parallel) and appends each sampled face's best
   // photo-consistent sample to `points`. `ids` are the faces' sorted vertex ids, `corners`
-  // their positions in the same order.
+  // their positions in the same order. Once `cancel` (may be null) is cancelled it stops and
+  // keeps nothing of this call: the faces stay unknown.
   void Sample(const std::vector<std::array<int32_t, 3>>& ids,
-              const std::vector<TriangleCorners>& corners, std::vector<OrientedPoint>* points);
+              const std::vector<TriangleCorners>& corners, std::vector<OrientedPoint>* points,
+              const Progress* cancel = nullptr);
 
   // The face's counts; it must be known (sampled or inherited). CheckError otherwise.
   FaceSamples Counts(const std::array<int32_t, 3>& ids) const;

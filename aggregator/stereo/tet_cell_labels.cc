@@ -27,7 +27,7 @@ std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<int>& l
                                   const std::vector<CameraModel>& cameras,
                                   const std::vector<OrientedPoint>& points,
                                   const CellLabelOptions& options, CellLabelStats* stats,
-                                  std::vector<uint32_t>* votes_out) {
+                                  std::vector<uint32_t>* votes_out, const Progress* cancel) {
   SILNET_CHECK(levels.size() == mesh.tetrahedra.size());
   SILNET_CHECK(options.ray_step > 0);
   const size_t cells = mesh.tetrahedra.size();
@@ -38,7 +38,7 @@ std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<int>& l
     for (int32_t v : mesh.tetrahedra[t])
       centroid[t] += mesh.vertices[v] / 4;
   }
-  ParallelFor(cells, options.threads, [&](size_t t) {
+  ParallelFor(cells, options.threads, cancel, [&](size_t t) {
     if (!scorer.InsideSilhouettes(centroid[t])) labels[t] = CellLabel::kExterior;
   });
   CellLabelStats local;
@@ -52,7 +52,7 @@ std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<int>& l
     box.extend(v);
   std::vector<std::atomic<uint32_t>> votes(cells);
   std::atomic<size_t> rays{0};
-  ParallelFor(points.size(), options.threads, [&](size_t k) {
+  ParallelFor(points.size(), options.threads, cancel, [&](size_t k) {
     const OrientedPoint& p = points[k];
     for (size_t v = 0; v < cameras.size() && v < 64; ++v) {
       if (((p.view_mask >> v) & 1) == 0) continue;
@@ -72,6 +72,7 @@ std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<int>& l
       }
     }
   });
+  if (cancel && cancel->cancelled()) return labels;
   local.rays = rays;
 
   std::vector<uint32_t> coarse_votes;

@@ -16,6 +16,7 @@
 #include "aggregator/stereo/patch_photo_consistency.h"
 #include "aggregator/stereo/red_green_mesh.h"
 #include "shared/geometry/camera_model.h"
+#include "shared/util/progress.h"
 
 namespace silnet::aggregator {
 
@@ -43,11 +44,13 @@ struct CellLabelStats {
 
 // Labels of the conforming mesh's tetrahedra (`levels[t]` the red level each came from,
 // `finest` the finest level). With `votes`, also the number of rays that crossed each cell.
+// Once `cancel` (may be null) is cancelled it stops early: the labels are then not to be used.
 std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<int>& levels, int finest,
                                   const PatchScorer& scorer,
                                   const std::vector<CameraModel>& cameras,
                                   const std::vector<OrientedPoint>& points,
                                   const CellLabelOptions& options, CellLabelStats* stats,
-                                  std::vector<uint32_t>* votes = nullptr);
+                                  std::vector<uint32_t>* votes = nullptr,
+                                  const Progress* cancel = nullptr);
 
 }  // namespace silnet::aggregator

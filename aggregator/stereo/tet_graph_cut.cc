@@ -28,7 +28,8 @@ double TetGraphCut::flow() const {
 
 TetGraphCut::TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labels,
                          const std::vector<uint32_t>& votes, const PatchScorer& scorer,
-                         double footprint, const TetGraphCutOptions& options)
+                         double footprint, const TetGraphCutOptions& options,
+                         const Progress* cancel)
     : mesh_(mesh), graph_(std::make_unique<Graph>()) {
   SILNET_CHECK(labels.size() == mesh.tetrahedra.size());
   SILNET_CHECK(votes.empty() || votes.size() == mesh.tetrahedra.size());
@@ -46,7 +47,7 @@ TetGraphCut::TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labe
   const double max_edge = options.max_scored_face_footprints * footprint;
   std::vector<double> capacity(shared.size(), 0.0);
   std::vector<uint8_t> scored(shared.size(), 0);
-  ParallelFor(shared.size(), options.threads, [&](size_t s) {
+  ParallelFor(shared.size(), options.threads, cancel, [&](size_t s) {
     const CellFace& f = faces[shared[s]];
     const CellLabel la = labels[static_cast<size_t>(f.cell)];
     const CellLabel lb = labels[static_cast<size_t>(faces[shared[s] + 1].cell)];
@@ -72,6 +73,12 @@ TetGraphCut::TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labe
     const double photo = w <= 0 ? 1.0 : 1 - std::exp(-t * t / (options.sigma * options.sigma));
     capacity[s] = (photo + options.lambda) * area;
   });
+  interior_.assign(cells, 0);
+  forced_side_.assign(cells, 0);
+  if (cancel && cancel->cancelled()) {
+    cancelled_ = true;
+    return;
+  }
 
   MaxFlowGraph& graph = graph_->flow;
   graph = MaxFlowGraph(static_cast<int64_t>(cells), static_cast<int64_t>(shared.size()));
@@ -100,8 +107,6 @@ TetGraphCut::TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labe
   }
   graph.Solve();
   links_ = shared.size();
-  interior_.resize(cells);
-  forced_side_.assign(cells, 0);
   for (size_t t = 0; t < cells; ++t)
     interior_[t] = graph.IsSourceSide(static_cast<int>(t)) ? 1 : 0;
 }
@@ -115,6 +120,7 @@ size_t TetGraphCut::ForceExterior(const std::vector<int32_t>& cells) {
 }
 
 size_t TetGraphCut::Force(const std::vector<int32_t>& cells, bool interior) {
+  SILNET_CHECK_MSG(!cancelled_, "a cancelled cut cannot be forced");
   size_t changed = 0;
   for (int32_t c : cells) {
     const auto t = static_cast<size_t>(c);

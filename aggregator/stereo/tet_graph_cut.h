@@ -26,6 +26,7 @@
 #include "aggregator/stereo/patch_photo_consistency.h"
 #include "aggregator/stereo/tet_cell_labels.h"
 #include "aggregator/stereo/tet_surface.h"
+#include "shared/util/progress.h"
 
 namespace silnet::aggregator {
 
@@ -45,10 +46,11 @@ class TetGraphCut {
   // Builds the dual graph of `mesh` with `labels` and the rays that crossed each cell
   // (`votes`, LabelCells; both one per cell, votes empty: every free cell balloons) and
   // solves it. `footprint` (metres) sets the patches' point spacing and the ballooning's
-  // unit. The mesh must outlive the cut.
+  // unit. The mesh must outlive the cut. Once `cancel` (may be null) is cancelled it stops
+  // before the max-flow: the cut is then empty (Cancelled()) and must not be forced.
   TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labels,
               const std::vector<uint32_t>& votes, const PatchScorer& scorer, double footprint,
-              const TetGraphCutOptions& options);
+              const TetGraphCutOptions& options, const Progress* cancel = nullptr);
   ~TetGraphCut();
 
   // Per cell: 1 on the source (interior) side of the current cut.
@@ -70,6 +72,8 @@ class TetGraphCut {
   // The mesh's faces (SortedCellFaces).
   const std::vector<CellFace>& Faces() const;
 
+  // True if the construction was cancelled before the cut was solved.
+  bool Cancelled() const { return cancelled_; }
   size_t nodes() const { return interior_.size(); }
   size_t links() const { return links_; }
   size_t faces_scored() const { return faces_scored_; }
@@ -83,6 +87,7 @@ class TetGraphCut {
   std::vector<uint8_t> interior_;
   std::vector<uint8_t> forced_side_;
   size_t links_ = 0, faces_scored_ = 0;
+  bool cancelled_ = false;
 };
 
 }  // namespace silnet::aggregator

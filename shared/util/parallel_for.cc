@@ -16,13 +16,18 @@ int ResolveThreadCount(int threads, std::size_t n) {
 }
 
 void ParallelFor(std::size_t n, int threads, const std::function<void(std::size_t)>& fn) {
+  ParallelFor(n, threads, nullptr, fn);
+}
+
+void ParallelFor(std::size_t n, int threads, const Progress* cancel,
+                 const std::function<void(std::size_t)>& fn) {
   const int count = ResolveThreadCount(threads, n);
   std::atomic<std::size_t> next{0};
   std::atomic<bool> failed{false};
   std::exception_ptr error;
   std::mutex error_mutex;
   auto worker = [&] {
-    while (!failed.load()) {
+    while (!failed.load() && !(cancel && cancel->cancelled())) {
       const std::size_t i = next.fetch_add(1);
       if (i >= n) return;
       try {

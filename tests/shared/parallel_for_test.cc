@@ -29,6 +29,23 @@ TEST(ParallelFor, RethrowsTheFirstErrorAndStops) {
   EXPECT_LE(calls.load(), 2);
 }
 
+// Once cancelled, no further item is handed out: on one thread, none after the one that
+// cancelled.
+TEST(ParallelFor, StopsHandingOutItemsOnceCancelled) {
+  Progress progress("work", 1000);
+  std::vector<int> hits(1000, 0);
+  ParallelFor(hits.size(), 1, &progress, [&](size_t i) {
+    hits[i] = 1;
+    if (i == 10) progress.Cancel();
+  });
+  for (size_t i = 0; i < hits.size(); ++i)
+    EXPECT_EQ(hits[i], i <= 10 ? 1 : 0) << i;
+  Progress idle("work", 100);
+  std::atomic<int> calls{0};
+  ParallelFor(100, 2, &idle, [&](size_t) { calls++; });
+  EXPECT_EQ(calls.load(), 100);
+}
+
 TEST(ParallelFor, ResolvesThreadCounts) {
   EXPECT_EQ(ResolveThreadCount(8, 3), 3);
   EXPECT_GE(ResolveThreadCount(0, 100), 1);

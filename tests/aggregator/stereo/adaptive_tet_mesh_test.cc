@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -17,6 +18,7 @@
 #include "aggregator/stereo/tet_graph_cut.h"
 #include "aggregator/stereo/tet_point_locator.h"
 #include "aggregator/stereo/tet_silhouette_step.h"
+#include "shared/util/check.h"
 #include "tests/aggregator/stereo/simulated_stills.h"
 #include "tests/aggregator/stereo/test_spheres.h"
 
@@ -280,6 +282,41 @@ TEST(TetSilhouetteStepTest, CellsCoveringBackgroundPixelsAreMadeExterior) {
       EXPECT_FALSE(cut.Interior()[t]) << t;
     }
   }
+}
+
+// Cancelled, the long loops inside a stage stop: the crossing test keeps nothing of the call,
+// and the dual graph's cut stops before its max-flow, empty, and refuses to be forced.
+TEST(AdaptiveStereoTest, CancelledStagesKeepNothingHalfDone) {
+  const Eigen::Vector3d centre(0, 0, 1);
+  const std::vector<StereoView> views =
+      testing::TexturedSphereViews(centre, 0.2, 6, 1.5, 160, 120, 200);
+  const PatchScorer scorer(views, {});
+  Progress cancelled("stereo", 0);
+  cancelled.Cancel();
+
+  CrossingFaceOptions crossing_options;
+  crossing_options.sample_spacing = 0.01;
+  crossing_options.patch_step = 1.5 / 200;
+  CrossingFaces crossing(scorer, crossing_options);
+  const std::vector<std::array<int32_t, 3>> ids = {{0, 1, 2}};
+  const std::vector<TriangleCorners> corners = {{centre + Eigen::Vector3d(-0.1, -0.1, 0),
+                                                 centre + Eigen::Vector3d(0.1, -0.1, 0),
+                                                 centre + Eigen::Vector3d(0, 0.1, 0)}};
+  std::vector<OrientedPoint> points;
+  crossing.Sample(ids, corners, &points, &cancelled);
+  EXPECT_FALSE(crossing.Known(ids[0]));
+  EXPECT_TRUE(points.empty());
+  crossing.Sample(ids, corners, &points);
+  EXPECT_TRUE(crossing.Known(ids[0]));
+  EXPECT_GT(crossing.Counts(ids[0]).inside, 0);
+
+  const Eigen::Vector3d half = Eigen::Vector3d::Constant(0.3);
+  const TetMesh mesh = BuildBccLattice(WorldBox(centre - half, centre + half), 0.03);
+  const std::vector<CellLabel> labels(mesh.tetrahedra.size(), CellLabel::kFree);
+  TetGraphCut cut(mesh, labels, {}, scorer, 1.5 / 200, {}, &cancelled);
+  EXPECT_TRUE(cut.Cancelled());
+  EXPECT_EQ(std::count(cut.Interior().begin(), cut.Interior().end(), 1), 0);
+  EXPECT_THROW(cut.ForceInterior({0}), CheckError);
 }
 
 TEST(AdaptiveStereoTest, CancellationIsAFailureWithAReason) {
