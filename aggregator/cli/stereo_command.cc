@@ -2,6 +2,8 @@
 // its calibration (the baseline graph cut of thesis ch. 5 until the exact silhouette
 // constraints of ch. 6 land).
 
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -17,8 +19,10 @@ namespace {
 struct StereoArgs {
   std::string input, calibration, out;
   int still = 0;
-  double lambda = StereoGraphCutDefaults().lambda;
-  double ballooning = StereoGraphCutDefaults().ballooning;
+  // Each method's own defaults unless given (their terms are not on the same scale).
+  double lambda = 0.0, ballooning = 0.0;
+  const CLI::Option* lambda_given = nullptr;
+  const CLI::Option* ballooning_given = nullptr;
   int silhouette_rounds = StereoGraphCutDefaults().silhouette_rounds;
   int threads = 0;
   std::string method = "uniform";
@@ -39,11 +43,14 @@ int RunStereo(const StereoArgs& args) {
   config.calibration = args.calibration;
   config.output = args.out;
   config.still = args.still;
-  config.graph_cut.lambda = args.lambda;
-  config.graph_cut.ballooning = args.ballooning;
   config.graph_cut.silhouette_rounds = args.silhouette_rounds;
   config.threads = args.threads;
   config.method = args.method == "adaptive" ? StereoMethod::kAdaptive : StereoMethod::kUniform;
+  const bool adaptive = config.method == StereoMethod::kAdaptive;
+  if (args.lambda_given->count() > 0)
+    (adaptive ? config.adaptive.cut.lambda : config.graph_cut.lambda) = args.lambda;
+  if (args.ballooning_given->count() > 0)
+    (adaptive ? config.adaptive.cut.ballooning : config.graph_cut.ballooning) = args.ballooning;
   config.refinement.iterations = args.refine_iterations;
   config.leave_out = args.leave_out;
   const auto run =
@@ -109,11 +116,17 @@ Command AddStereoCommand(CLI::App& app) {
       ->check(CLI::IsMember({"uniform", "adaptive"}))
       ->capture_default_str();
   // Values are validated by the job (InputError, exit code 2, with the reason).
-  cmd->add_option("--lambda", args->lambda,
-                  "photo-consistency cost exp(-lambda * votes) of the graph cut (> 0)")
-      ->capture_default_str();
-  cmd->add_option("--ballooning", args->ballooning, "volume reward per interior cell (>= 0)")
-      ->capture_default_str();
+  args->lambda_given = cmd->add_option(
+      "--lambda", args->lambda,
+      fmt::format("uniform: photo-consistency cost exp(-lambda * votes) of the graph cut (> 0, "
+                  "default {}); adaptive: cost per unit of face area beside the faces' "
+                  "photo-consistency (>= 0, default {})",
+                  StereoGraphCutDefaults().lambda, TetGraphCutOptions{}.lambda));
+  args->ballooning_given = cmd->add_option(
+      "--ballooning", args->ballooning,
+      fmt::format("uniform: volume reward per interior cell (>= 0, default {}); adaptive: reward "
+                  "per cell no view saw through, x its volume / footprint (>= 0, default {})",
+                  StereoGraphCutDefaults().ballooning, TetGraphCutOptions{}.ballooning));
   cmd->add_option("--silhouette-rounds", args->silhouette_rounds,
                   "silhouette steps: re-cuts that cover the silhouette pixels the model misses "
                   "(0 = the plain cut)")

@@ -233,6 +233,15 @@ bool StereoJobConfig::IsValid(std::string* reason) const {
     *reason = "graph cut: " + cut;
     return false;
   }
+  std::string mesh;
+  if (!adaptive.mesh.IsValid(&mesh)) {
+    *reason = "adaptive mesh: " + mesh;
+    return false;
+  }
+  if (!(adaptive.cut.lambda >= 0) || !(adaptive.cut.ballooning >= 0) || !(adaptive.cut.sigma > 0)) {
+    *reason = "adaptive graph cut: lambda and ballooning must be >= 0, sigma > 0";
+    return false;
+  }
   std::string refine;
   if (!refinement.IsValid(&refine)) {
     *reason = "refinement: " + refine;

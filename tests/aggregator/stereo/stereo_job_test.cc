@@ -660,6 +660,31 @@ TEST(StereoJobTest, LeftOutCamerasAreNotUsedAndUnknownOnesAreAnInputError) {
   EXPECT_THROW(RunStereoJob(config, nullptr), InputError);
 }
 
+// --lambda and --ballooning set the chosen method's terms; a value out of range for it is an
+// input error naming the method's graph cut, before any work.
+TEST(StereoCliTest, GraphCutTermsOutOfRangeForTheMethodAreInputErrors) {
+  const std::filesystem::path& input = SmallStills();
+  silnet::testing::TempDir work;
+  const auto run = [&](const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {"stereo",  input.string(),
+                                     "--calib", (input / "calibration.yaml").string(),
+                                     "-o",      (work / "out").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    silnet::testing::ChildProcess cli(
+        std::filesystem::path(SILNET_BINARY_DIR) / "aggregator/silnet-aggregator", args,
+        work.path());
+    const std::optional<int> status = cli.Wait(std::chrono::seconds(60));
+    return std::pair{status, cli.Stderr()};
+  };
+  const auto [adaptive, adaptive_error] = run({"--method", "adaptive", "--ballooning", "-1"});
+  EXPECT_EQ(adaptive, std::optional<int>(2)) << adaptive_error;
+  EXPECT_NE(adaptive_error.find("adaptive graph cut"), std::string::npos) << adaptive_error;
+  const auto [uniform, uniform_error] = run({"--lambda", "0"});
+  EXPECT_EQ(uniform, std::optional<int>(2)) << uniform_error;
+  EXPECT_NE(uniform_error.find("graph cut"), std::string::npos) << uniform_error;
+  EXPECT_FALSE(std::filesystem::exists(work / "out" / "model.ply"));
+}
+
 TEST(StereoCliTest, MissingCalibrationIsAnInputError) {
   const std::filesystem::path& input = SmallStills();
   silnet::testing::TempDir work;
