@@ -1,5 +1,6 @@
 #include "node/segmentation/outline_coverage.h"
 
+#include <algorithm>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
