@@ -168,7 +168,7 @@ bool UniformModel(const StereoJobConfig& config, const StereoViews& views,
   constraints.masks.insert(constraints.masks.end(), border_views.masks.begin(),
                            border_views.masks.end());
   const VolumetricGraphCutResult cut =
-      VolumetricGraphCut(votes.volume, hull_cells, config.graph_cut, &constraints);
+      VolumetricGraphCut(votes.volume, hull_cells, config.graph_cut, &constraints, progress);
   spdlog::info("{}", cut.stats.Brief());
   result->seconds.graph_cut = SecondsSince(stage);
   result->graph_cut = cut.stats;

@@ -176,7 +176,8 @@ std::string VolumetricGraphCutStats::Brief() const {
 
 VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const VoxelGrid& hull,
                                             const VolumetricGraphCutOptions& options,
-                                            const CutSilhouettes* silhouettes) {
+                                            const CutSilhouettes* silhouettes,
+                                            const Progress* cancel) {
   std::string reason;
   SILNET_CHECK_MSG(options.IsValid(&reason), reason);
   SILNET_CHECK_MSG(SameLattice(hull, votes), "hull grid is not on the vote lattice");
@@ -184,6 +185,12 @@ VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const Voxel
   VolumetricGraphCutResult result;
   VolumetricGraphCutStats& stats = result.stats;
   stats.lattice_cells = votes.size();
+  // True (with the reason set) once `cancel` is cancelled.
+  const auto cancelled = [&] {
+    if (!cancel || !cancel->cancelled()) return false;
+    result.reason = "cancelled";
+    return true;
+  };
 
   auto start = Clock::now();
   StereoLattice lattice =
@@ -215,11 +222,13 @@ VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const Voxel
   // pockets in `lattice` (the labels) and ties their nodes to the source in the graph, whose
   // cut is then updated from the previous flow instead of being rebuilt.
   StereoGraph graph = BuildAndSolve(lattice, votes, options, stats);
+  if (cancelled()) return result;
   result.interior = VoxelGrid::Empty(votes.origin, votes.cell_size, votes.dims);
   LabelCells(lattice, graph, result);
   PinnedCells pinned;
   ExtractSurface(options, pinned.cells, result);
   for (int round = 0; round < options.silhouette_rounds; ++round) {
+    if (cancelled()) return result;
     start = Clock::now();
     const SilhouetteRepair repair =
         FindSilhouetteRepair(result.surface, hull, votes, silhouettes->cameras, silhouettes->masks,
@@ -237,6 +246,7 @@ VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const Voxel
     }
     ExtractSurface(options, pinned.cells, result);
   }
+  if (cancelled()) return result;
   stats.pinned_cells = pinned.cells.size();
   for (uint8_t inside : result.interior.occupied)
     stats.interior_cells += inside;
@@ -247,8 +257,9 @@ VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const Voxel
 
 VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const TriangleMesh& hull,
                                             const VolumetricGraphCutOptions& options,
-                                            const CutSilhouettes* silhouettes) {
-  return VolumetricGraphCut(votes, HullOnLattice(hull, votes), options, silhouettes);
+                                            const CutSilhouettes* silhouettes,
+                                            const Progress* cancel) {
+  return VolumetricGraphCut(votes, HullOnLattice(hull, votes), options, silhouettes, cancel);
 }
 
 }  // namespace silnet::aggregator

@@ -21,6 +21,7 @@
 #include "aggregator/stereo/surface_extraction.h"
 #include "aggregator/stereo/vote_volume.h"
 #include "shared/geometry/camera_model.h"
+#include "shared/util/progress.h"
 
 namespace silnet::aggregator {
 
@@ -88,14 +89,18 @@ struct VolumetricGraphCutResult {
 // Runs the cut of `votes` inside `hull` (occupancy on exactly the votes' lattice; CheckError
 // otherwise, for invalid options, and for silhouette steps without `silhouettes`). An
 // empty hull, or one with no cell deeper than the inner offset, is reported as a failure.
+// Once `cancel` (may be null) is cancelled it stops at its next step (after the max-flow, after
+// each surface extraction) with the reason "cancelled".
 VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const VoxelGrid& hull,
                                             const VolumetricGraphCutOptions& options,
-                                            const CutSilhouettes* silhouettes = nullptr);
+                                            const CutSilhouettes* silhouettes = nullptr,
+                                            const Progress* cancel = nullptr);
 
 // The same with the hull as a closed mesh (e.g. the polyhedral visual hull), voxelised on the
 // votes' lattice (cells whose centres lie inside it).
 VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const TriangleMesh& hull,
                                             const VolumetricGraphCutOptions& options,
-                                            const CutSilhouettes* silhouettes = nullptr);
+                                            const CutSilhouettes* silhouettes = nullptr,
+                                            const Progress* cancel = nullptr);
 
 }  // namespace silnet::aggregator

@@ -312,6 +312,16 @@ TEST(VolumetricGraphCut, FailuresAreData) {
   EXPECT_FALSE(thin.success);
   EXPECT_NE(thin.reason.find("deeper than the inner offset"), std::string::npos);
 
+  // Cancelled: stops after the max-flow, a failure with its reason.
+  const VoxelGrid ball = GridOf(
+      votes, [](const Eigen::Vector3d& p) { return (p - Eigen::Vector3d(5, 5, 5)).norm() < 4.5; });
+  Progress cancelled("cut", 0);
+  cancelled.Cancel();
+  const VolumetricGraphCutResult stopped = VolumetricGraphCut(votes, ball, {}, nullptr, &cancelled);
+  EXPECT_FALSE(stopped.success);
+  EXPECT_EQ(stopped.reason, "cancelled");
+  EXPECT_TRUE(stopped.surface.triangles.empty());
+
   const VoxelGrid other = VoxelGrid::Empty(votes.origin, 2 * votes.cell_size, votes.dims);
   EXPECT_THROW(VolumetricGraphCut(votes, other, {}), CheckError);
   VolumetricGraphCutOptions bad;
