@@ -238,8 +238,9 @@ bool StereoJobConfig::IsValid(std::string* reason) const {
     *reason = "adaptive mesh: " + mesh;
     return false;
   }
-  if (!(adaptive.cut.lambda >= 0) || !(adaptive.cut.ballooning >= 0) || !(adaptive.cut.sigma > 0)) {
-    *reason = "adaptive graph cut: lambda and ballooning must be >= 0, sigma > 0";
+  std::string adaptive_cut;
+  if (!adaptive.cut.IsValid(&adaptive_cut)) {
+    *reason = "adaptive graph cut: " + adaptive_cut;
     return false;
   }
   std::string refine;

@@ -26,6 +26,17 @@ double TetGraphCut::flow() const {
   return graph_->flow.flow();
 }
 
+bool TetGraphCutOptions::IsValid(std::string* reason) const {
+  const auto fail = [&](const char* why) {
+    if (reason) *reason = why;
+    return false;
+  };
+  if (!(lambda >= 0)) return fail("lambda must be >= 0");
+  if (!(sigma > 0)) return fail("sigma must be positive");
+  if (!(ballooning >= 0)) return fail("ballooning must be >= 0");
+  return true;
+}
+
 TetGraphCut::TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labels,
                          const std::vector<uint32_t>& votes, const PatchScorer& scorer,
                          double footprint, const TetGraphCutOptions& options,
@@ -33,8 +44,9 @@ TetGraphCut::TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labe
     : mesh_(mesh), graph_(std::make_unique<Graph>()) {
   SILNET_CHECK(labels.size() == mesh.tetrahedra.size());
   SILNET_CHECK(votes.empty() || votes.size() == mesh.tetrahedra.size());
-  SILNET_CHECK(footprint > 0 && options.sigma > 0 && options.lambda >= 0 &&
-               options.ballooning >= 0);
+  std::string reason;
+  SILNET_CHECK_MSG(options.IsValid(&reason), reason);
+  SILNET_CHECK(footprint > 0);
   const size_t cells = mesh.tetrahedra.size();
   graph_->faces = SortedCellFaces(mesh);
   const std::vector<CellFace>& faces = graph_->faces;

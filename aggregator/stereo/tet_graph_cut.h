@@ -38,6 +38,9 @@ struct TetGraphCutOptions {
   double ballooning = 0.3;                // per free cell, x volume / footprint; 0 = none
   uint32_t ballooning_max_votes = 1;      // cells crossed by this many rays: no ballooning
   int threads = 0;
+
+  // True if the options make sense; otherwise false with a reason.
+  bool IsValid(std::string* reason) const;
 };
 
 // The cut of one mesh, kept so cells can be forced inside and the cut updated (7.4.2).
