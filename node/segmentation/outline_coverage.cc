@@ -5,35 +5,24 @@
 #include <vector>
 
 namespace silnet::node {
-namespace {
-
-// Whether (x, y) of `mask` (a silhouette pixel) has a 4-neighbour that is background (0).
-bool OnOutline(const cv::Mat& mask, int x, int y) {
-  const auto background = [&](int u, int v) {
-    return u >= 0 && v >= 0 && u < mask.cols && v < mask.rows && mask.at<uint8_t>(v, u) == 0;
-  };
-  return background(x - 1, y) || background(x + 1, y) || background(x, y - 1) ||
-         background(x, y + 1);
-}
-
-}  // namespace
 
 int TrimPartlyCoveredOutline(cv::Mat* mask, const cv::Mat& still, const cv::Mat& background,
                              cv::Mat* trimmed, const OutlineCoverageOptions& options) {
-  cv::Mat inside;  // distance to the nearest non-silhouette pixel
-  cv::distanceTransform(*mask == 255, inside, cv::DIST_L2, cv::DIST_MASK_5);
+  // Distance to the nearest background pixel: 1 exactly next to one (4-neighbourhood).
+  cv::Mat inside;
+  cv::distanceTransform(*mask != 0, inside, cv::DIST_L2, cv::DIST_MASK_5);
   const int r = options.window_radius;
   const float interior = static_cast<float>(options.interior_distance);
   const double min_contrast2 = options.min_contrast * options.min_contrast;
   std::vector<cv::Point> drop;
   for (int y = 0; y < mask->rows; ++y) {
     for (int x = 0; x < mask->cols; ++x) {
-      if (mask->at<uint8_t>(y, x) != 255 || !OnOutline(*mask, x, y)) continue;
+      if (mask->at<uint8_t>(y, x) != 255 || inside.at<float>(y, x) > 1.0f) continue;
       double subject[3] = {0.0, 0.0, 0.0};
       int count = 0;
       for (int v = std::max(0, y - r); v <= std::min(mask->rows - 1, y + r); ++v) {
         for (int u = std::max(0, x - r); u <= std::min(mask->cols - 1, x + r); ++u) {
-          if (inside.at<float>(v, u) < interior) continue;
+          if (mask->at<uint8_t>(v, u) != 255 || inside.at<float>(v, u) < interior) continue;
           const cv::Vec3b& c = still.at<cv::Vec3b>(v, u);
           for (int k = 0; k < 3; ++k)
             subject[k] += c[k];
