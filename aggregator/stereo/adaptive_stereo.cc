@@ -68,18 +68,20 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   CellLabelOptions label_options = options.labels;
   label_options.ray_step = stats.finest_spacing / 2;
   label_options.ray_start = 2 * stats.finest_spacing;
+  label_options.min_chord = stats.finest_spacing / 4;
   label_options.threads = options.threads;
   std::vector<uint32_t> votes;
+  std::vector<CellFace> faces = SortedCellFaces(mesh);
   const std::vector<CellLabel> labels =
-      LabelCells(mesh, levels, adaptive.levels.back().level, scorer, cameras, adaptive.points,
-                 label_options, &stats.labels, &votes, progress);
+      LabelCells(mesh, faces, levels, adaptive.levels.back().level, scorer, cameras,
+                 adaptive.points, label_options, &stats.labels, &votes, progress);
   stats.seconds_labels = SecondsSince(start);
   if (cancelled()) return result;
 
   start = Clock::now();
   TetGraphCutOptions cut_options = options.cut;
   cut_options.threads = options.threads;
-  TetGraphCut cut(mesh, labels, votes, scorer, footprint, cut_options, progress);
+  TetGraphCut cut(mesh, std::move(faces), labels, votes, scorer, footprint, cut_options, progress);
   stats.links = cut.links();
   stats.faces_scored = cut.faces_scored();
   stats.seconds_cut = SecondsSince(start);

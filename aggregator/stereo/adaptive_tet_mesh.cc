@@ -62,6 +62,7 @@ bool AdaptiveTetMeshOptions::IsValid(std::string* reason) const {
   if (crossing_samples < 1) return fail("crossing_samples must be at least 1");
   if (!(sample_spacing_footprints > 0)) return fail("sample_spacing_footprints must be positive");
   if (!(prefilter_margin >= 0)) return fail("prefilter_margin must not be negative");
+  if (full_orientations < 1) return fail("full_orientations must be at least 1");
   return patch.IsValid(reason);
 }
 
@@ -85,6 +86,7 @@ AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const
   crossing_options.patch_step = footprint;
   crossing_options.min_score = options.min_score;
   crossing_options.prefilter_margin = options.prefilter_margin;
+  crossing_options.full_orientations = options.full_orientations;
   crossing_options.crossing_fraction = options.crossing_fraction;
   crossing_options.crossing_samples = options.crossing_samples;
   crossing_options.threads = options.threads;
@@ -121,7 +123,7 @@ AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const
     }
     const size_t sampled_before = crossing.SampledFaces();
     const size_t scored_before = crossing.SamplesScored();
-    crossing.Sample(ids, corners, &result.points, progress);
+    crossing.Sample(ids, corners, &result.points, progress, level + 1 < levels);
     if (progress && progress->cancelled()) break;
     stats.faces_sampled = crossing.SampledFaces() - sampled_before;
     stats.samples_scored = crossing.SamplesScored() - scored_before;

@@ -29,6 +29,7 @@ struct AdaptiveTetMeshOptions {
   double sample_spacing_footprints = 1.5;  // of the faces' sample lattices
   double min_score = 0.7;                  // T: photo-consistent samples score at least this
   double prefilter_margin = 0.15;          // see CrossingFaceOptions
+  int full_orientations = 2;               // see CrossingFaceOptions
   double crossing_fraction = 0.2;          // crossing faces: this share of the samples ...
   int crossing_samples = 20;               // ... or this many are photo-consistent
   // Refine cells the visual hull's surface passes through as well (some of a face's samples

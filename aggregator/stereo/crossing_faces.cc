@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+#include <numeric>
 
 #include "shared/util/check.h"
 #include "shared/util/parallel_for.h"
@@ -20,6 +21,26 @@ CrossingFaces::CrossingFaces(const PatchScorer& scorer, const CrossingFaceOption
   SILNET_CHECK(options.sample_spacing > 0 && options.patch_step > 0);
   SILNET_CHECK(options.crossing_fraction > 0 && options.crossing_fraction <= 1);
 }
+
+namespace {
+
+// This thread's list of a face's samples inside the silhouettes (lattice index, position).
+std::vector<std::pair<size_t, Eigen::Vector3d>>& ThreadInside() {
+  thread_local std::vector<std::pair<size_t, Eigen::Vector3d>> inside;
+  return inside;
+}
+
+// A stride coprime to n near 0.618 n (1 for n < 3): k * stride mod n visits 0..n-1 once each,
+// consecutive visits far apart.
+size_t SpreadStride(size_t n) {
+  if (n < 3) return 1;
+  size_t stride = std::max<size_t>(1, static_cast<size_t>(0.618 * static_cast<double>(n)));
+  while (std::gcd(stride, n) != 1)
+    ++stride;
+  return stride;
+}
+
+}  // namespace
 
 uint64_t CrossingFaces::Hash(const std::array<int32_t, 3>& ids) {
   uint64_t h = static_cast<uint32_t>(ids[0]);
@@ -83,7 +104,8 @@ FaceSamples CrossingFaces::CountPart(const Lattice& lattice,
 
 void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
                            const std::vector<TriangleCorners>& corners,
-                           std::vector<OrientedPoint>* points, const Progress* cancel) {
+                           std::vector<OrientedPoint>* points, const Progress* cancel,
+                           bool keep_lattices) {
   SILNET_CHECK(ids.size() == corners.size());
   // The faces not known yet, each once however often `ids` lists it.
   std::vector<std::pair<std::array<int32_t, 3>, size_t>> unknown;
@@ -110,8 +132,10 @@ void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
     auto lattice = std::make_shared<Lattice>();
     lattice->n = n;
     lattice->flags.assign(static_cast<size_t>((n + 1) * (n + 2) / 2), 0);
-    OrientedPoint& top = best[k];
-    top.score = -2.0f;
+    // The samples inside the silhouettes, scored in a spread order so that a face cut short
+    // has its scored samples all over it.
+    std::vector<std::pair<size_t, Eigen::Vector3d>>& inside = ThreadInside();
+    inside.clear();
     size_t index = 0;
     for (int j = 0; j <= n; ++j) {
       for (int i = 0; i + j <= n; ++i, ++index) {
@@ -119,25 +143,37 @@ void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
             c[0] + (double(i) / n) * (c[1] - c[0]) + (double(j) / n) * (c[2] - c[0]);
         if (!scorer_.InsideSilhouettes(x)) continue;
         lattice->flags[index] = Lattice::kInside;
-        int orientation = 0;
-        const PatchScore score = scorer_.BestPlane(
-            x, options_.patch_step, options_.min_score - options_.prefilter_margin, &orientation);
-        ++scored[k];
-        if (score.score < options_.min_score) continue;
-        lattice->flags[index] |= Lattice::kConsistent;
-        if (score.score > top.score) {
-          top.point = x;
-          top.normal = CanonicalOrientations()[static_cast<size_t>(orientation)];
-          top.score = score.score;
-          top.view_mask = score.view_mask;
-        }
+        inside.emplace_back(index, x);
+      }
+    }
+    const size_t total = lattice->flags.size();
+    const size_t stride = SpreadStride(inside.size());
+    OrientedPoint& top = best[k];
+    top.score = -2.0f;
+    int consistent = 0;
+    for (size_t m = 0; m < inside.size(); ++m) {
+      if (!keep_lattices && Crossing(FaceSamples{static_cast<int>(total), consistent, 0})) break;
+      const auto& [at, x] = inside[(m * stride) % inside.size()];
+      int orientation = 0;
+      const PatchScore score =
+          scorer_.BestPlane(x, options_.patch_step, options_.min_score - options_.prefilter_margin,
+                            &orientation, options_.full_orientations);
+      ++scored[k];
+      if (score.score < options_.min_score) continue;
+      lattice->flags[at] |= Lattice::kConsistent;
+      ++consistent;
+      if (score.score > top.score) {
+        top.point = x;
+        top.normal = CanonicalOrientations()[static_cast<size_t>(orientation)];
+        top.score = score.score;
+        top.view_mask = score.view_mask;
       }
     }
     Part& part = results[k];
-    part.lattice = std::move(lattice);
     part.corner = {{{0, 0}, {n, 0}, {0, n}}};
     part.ids = ids[f];
-    part.counts = CountPart(*part.lattice, part.corner);
+    part.counts = CountPart(*lattice, part.corner);
+    if (keep_lattices) part.lattice = std::move(lattice);
   });
   if (cancel && cancel->cancelled()) return;
   for (size_t k = 0; k < fresh.size(); ++k) {
@@ -152,6 +188,7 @@ void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
 void CrossingFaces::Inherit(int32_t a, int32_t b, int32_t c, int32_t ab, int32_t bc, int32_t ca) {
   const Part* parent = Find(SortedFace(a, b, c));
   SILNET_CHECK_MSG(parent != nullptr, "face not sampled");
+  if (!parent->lattice) return;  // sampled without keeping its lattice
   // The parent's lattice coordinates of a, b, c.
   std::array<int, 2> pa{}, pb{}, pc{};
   for (int k = 0; k < 3; ++k) {

@@ -30,7 +30,8 @@ struct CrossingFaceOptions {
   double patch_step = 0.0;         // metres, > 0: between patch points (the pixel footprint)
   double min_score = 0.7;          // a sample is photo-consistent at or above this
   double prefilter_margin = 0.15;  // orientations scoring below min_score less this on every
-                                   // other patch point are not scored in full
+                                   // other patch point are not scored in full ...
+  int full_orientations = 2;       // ... nor are those beyond the best this many of the others
   double crossing_fraction = 0.2;  // of a face's samples
   int crossing_samples = 20;       // or at least this many
   int threads = 0;                 // 0 = every core
@@ -64,10 +65,13 @@ class CrossingFaces {
   // Samples every face not known yet (in parallel) and appends each sampled face's best
   // photo-consistent sample to `points`. `ids` are the faces' sorted vertex ids, `corners`
   // their positions in the same order. Once `cancel` (may be null) is cancelled it stops and
-  // keeps nothing of this call: the faces stay unknown.
+  // keeps nothing of this call: the faces stay unknown. Without `keep_lattices` (the last level
+  // tested: no face will be split and tested again) a face's samples are scored only until
+  // they make it crossing, its best point is the best of those, and its lattice is not kept
+  // (Inherit hands nothing down from it).
   void Sample(const std::vector<std::array<int32_t, 3>>& ids,
               const std::vector<TriangleCorners>& corners, std::vector<OrientedPoint>* points,
-              const Progress* cancel = nullptr);
+              const Progress* cancel = nullptr, bool keep_lattices = true);
 
   // The face's counts; it must be known (sampled or inherited). CheckError otherwise.
   FaceSamples Counts(const std::array<int32_t, 3>& ids) const;
@@ -95,7 +99,7 @@ class CrossingFaces {
   // A known face: its part of a lattice, given by its corners' lattice coordinates (i, j),
   // corner k belonging to the vertex id in the same place of `ids`.
   struct Part {
-    std::shared_ptr<const Lattice> lattice;
+    std::shared_ptr<const Lattice> lattice;  // null if not kept
     std::array<std::array<int, 2>, 3> corner{};
     std::array<int32_t, 3> ids{};
     FaceSamples counts;

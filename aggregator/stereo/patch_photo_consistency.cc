@@ -240,26 +240,39 @@ void PatchGrid(int half, int stride, const Eigen::Vector3d& u, const Eigen::Vect
 }  // namespace
 
 PatchScore PatchScorer::BestPlane(const Eigen::Vector3d& x, double step, double prefilter,
-                                  int* orientation) const {
+                                  int* orientation, int full_orientations) const {
   Scratch& s = ThreadScratch();
   ProjectAll(views_, x, &s.projected);
   PatchScore best;
   const int half = options_.mu / 2;
   const auto& orientations = CanonicalOrientations();
+  // Every other point first (most orientations end there); then, in full, the orientations
+  // that passed, best first, at most full_orientations of them.
+  std::array<std::pair<float, int>, 14> passed;
+  size_t count = 0;
   for (size_t o = 0; o < orientations.size(); ++o) {
     ChooseViews(orientations[o], &s.chosen);
     if (static_cast<int>(s.chosen.size()) < options_.min_views) continue;
-    const Eigen::Vector3d u = orientations[o].unitOrthogonal();
-    const Eigen::Vector3d v = orientations[o].cross(u);
-    if (prefilter > -1) {  // every other point first: most orientations end here
-      PatchGrid(half, 2, u, v, step, &s.offsets);
-      if (Score(s.offsets, s.chosen).score < prefilter) continue;
+    float coarse = 1.0f;
+    if (prefilter > -1) {
+      const Eigen::Vector3d u = orientations[o].unitOrthogonal();
+      PatchGrid(half, 2, u, orientations[o].cross(u), step, &s.offsets);
+      coarse = Score(s.offsets, s.chosen).score;
+      if (coarse < prefilter) continue;
     }
-    PatchGrid(half, 1, u, v, step, &s.offsets);
+    passed[count++] = {-coarse, static_cast<int>(o)};
+  }
+  std::sort(passed.begin(), passed.begin() + static_cast<std::ptrdiff_t>(count));
+  const size_t limit = prefilter > -1 ? static_cast<size_t>(std::max(1, full_orientations)) : count;
+  for (size_t k = 0; k < std::min(count, limit); ++k) {
+    const int o = passed[k].second;
+    ChooseViews(orientations[o], &s.chosen);
+    const Eigen::Vector3d u = orientations[o].unitOrthogonal();
+    PatchGrid(half, 1, u, orientations[o].cross(u), step, &s.offsets);
     const PatchScore score = Score(s.offsets, s.chosen);
     if (score.score > best.score) {
       best = score;
-      if (orientation) *orientation = static_cast<int>(o);
+      if (orientation) *orientation = o;
     }
   }
   return best;
@@ -273,6 +286,29 @@ PatchScore PatchScorer::Plane(const Eigen::Vector3d& x, const Eigen::Vector3d& n
   PatchGrid(options_.mu / 2, 1, u, v, step, &s.offsets);
   ChooseViews(normal, &s.chosen);
   return Score(s.offsets, s.chosen);
+}
+
+PatchScore PatchScorer::PlaneEitherSide(const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
+                                        const Eigen::Vector3d& u, const Eigen::Vector3d& v,
+                                        double step, double prefilter) const {
+  Scratch& s = ThreadScratch();
+  ProjectAll(views_, x, &s.projected);
+  PatchScore best;
+  for (const Eigen::Vector3d& side : {normal, Eigen::Vector3d(-normal)}) {
+    ChooseViews(side, &s.chosen);
+    if (static_cast<int>(s.chosen.size()) < options_.min_views) continue;
+    PatchScore score;
+    if (prefilter > -1) {
+      PatchGrid(options_.mu / 2, 2, u, v, step, &s.offsets);
+      score = Score(s.offsets, s.chosen);
+    }
+    if (prefilter <= -1 || score.score >= prefilter) {
+      PatchGrid(options_.mu / 2, 1, u, v, step, &s.offsets);
+      score = Score(s.offsets, s.chosen);
+    }
+    if (score.score > best.score) best = score;
+  }
+  return best;
 }
 
 std::vector<float> PatchScorer::AlongNormal(const Eigen::Vector3d& x, const Eigen::Vector3d& normal,

@@ -60,15 +60,22 @@ class PatchScorer {
   bool InsideSilhouettes(const Eigen::Vector3d& x) const;
 
   // The best plane patch at X over the canonical orientations (the patch perpendicular to
-  // each), its index in `orientation` if given. An orientation whose patch scores below
-  // `prefilter` on every other point (a quarter of the work) is not scored in full; -1 or
-  // less scores every orientation in full.
+  // each), its index in `orientation` if given. With `prefilter` above -1 every orientation is
+  // first scored on every other point (a quarter of the work): those below `prefilter` are
+  // not scored in full, and of the others only the `full_orientations` best. -1 or less
+  // scores every orientation in full.
   PatchScore BestPlane(const Eigen::Vector3d& x, double step, double prefilter = -1,
-                       int* orientation = nullptr) const;
+                       int* orientation = nullptr, int full_orientations = 14) const;
   // The plane patch at X spanned by unit directions u and v, normal `normal` (facing the views
   // that may score it).
   PatchScore Plane(const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
                    const Eigen::Vector3d& u, const Eigen::Vector3d& v, double step) const;
+  // The better of the plane patches at X facing `normal` and facing -normal (as Plane, X
+  // projected once). A side whose patch of every other point scores below `prefilter` (a
+  // quarter of the work) keeps that score; -1 or less scores both sides in full.
+  PatchScore PlaneEitherSide(const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
+                             const Eigen::Vector3d& u, const Eigen::Vector3d& v, double step,
+                             double prefilter = -1) const;
 
   // The scores of the patch at X (as Plane, but bent to a sphere of curvature `curvature`,
   // 1/metres, positive when it bulges towards the normal) moved along its normal to

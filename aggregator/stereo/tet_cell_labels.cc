@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "aggregator/stereo/tet_point_locator.h"
+#include "aggregator/stereo/tet_ray_walk.h"
 #include "shared/util/check.h"
 #include "shared/util/parallel_for.h"
 
@@ -22,7 +23,8 @@ uint32_t Percentile(std::vector<uint32_t> values, double percentile) {
 
 }  // namespace
 
-std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<int>& levels, int finest,
+std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<CellFace>& faces,
+                                  const std::vector<int>& levels, int finest,
                                   const PatchScorer& scorer,
                                   const std::vector<CameraModel>& cameras,
                                   const std::vector<OrientedPoint>& points,
@@ -45,11 +47,9 @@ std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<int>& l
   for (CellLabel l : labels)
     local.outside_hull += l == CellLabel::kExterior ? 1 : 0;
 
-  // Votes along the rays from each point to the views that scored it.
+  // Votes along the rays from each point to the views that scored it, walked cell by cell.
   const TetPointLocator locator(mesh, 4 * options.ray_step);
-  Eigen::AlignedBox3d box;
-  for (const Eigen::Vector3d& v : mesh.vertices)
-    box.extend(v);
+  const TetRayWalker walker(mesh, faces);
   std::vector<std::atomic<uint32_t>> votes(cells);
   std::atomic<size_t> rays{0};
   ParallelFor(points.size(), options.threads, cancel, [&](size_t k) {
@@ -58,18 +58,17 @@ std::vector<CellLabel> LabelCells(const TetMesh& mesh, const std::vector<int>& l
       if (((p.view_mask >> v) & 1) == 0) continue;
       ++rays;
       const Eigen::Vector3d direction = (cameras[v].Center() - p.point).normalized();
-      int32_t last = -1;
-      for (double s = options.ray_start;; s += options.ray_step) {
-        const Eigen::Vector3d x = p.point + s * direction;
-        if (!box.contains(x)) break;
-        const int32_t t = locator.Locate(x);
-        if (t < 0 || t == last) continue;
-        // Out of the hull the ray has left the cells that matter (it could enter again only
-        // through a concavity of the hull itself).
-        if (labels[static_cast<size_t>(t)] == CellLabel::kExterior) break;
-        last = t;
-        votes[static_cast<size_t>(t)].fetch_add(1, std::memory_order_relaxed);
-      }
+      const Eigen::Vector3d start = p.point + options.ray_start * direction;
+      const int32_t first = locator.Locate(start);
+      if (first < 0) continue;
+      // Out of the hull the ray has left the cells that matter (it could enter again only
+      // through a concavity of the hull itself).
+      walker.Walk(first, start, direction, [&](int32_t t, double entry, double exit) {
+        if (labels[static_cast<size_t>(t)] == CellLabel::kExterior) return false;
+        if (exit - entry >= options.min_chord)
+          votes[static_cast<size_t>(t)].fetch_add(1, std::memory_order_relaxed);
+        return true;
+      });
     }
   });
   if (cancel && cancel->cancelled()) return labels;

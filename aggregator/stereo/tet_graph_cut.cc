@@ -34,13 +34,14 @@ bool TetGraphCutOptions::IsValid(std::string* reason) const {
   if (!(lambda >= 0)) return fail("lambda must be >= 0");
   if (!(sigma > 0)) return fail("sigma must be positive");
   if (!(ballooning >= 0)) return fail("ballooning must be >= 0");
+  if (!(patch_prefilter < 1)) return fail("patch_prefilter must be below 1");
   return true;
 }
 
-TetGraphCut::TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labels,
-                         const std::vector<uint32_t>& votes, const PatchScorer& scorer,
-                         double footprint, const TetGraphCutOptions& options,
-                         const Progress* cancel)
+TetGraphCut::TetGraphCut(const TetMesh& mesh, std::vector<CellFace> faces_of_mesh,
+                         const std::vector<CellLabel>& labels, const std::vector<uint32_t>& votes,
+                         const PatchScorer& scorer, double footprint,
+                         const TetGraphCutOptions& options, const Progress* cancel)
     : mesh_(mesh), graph_(std::make_unique<Graph>()) {
   SILNET_CHECK(labels.size() == mesh.tetrahedra.size());
   SILNET_CHECK(votes.empty() || votes.size() == mesh.tetrahedra.size());
@@ -48,7 +49,8 @@ TetGraphCut::TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labe
   SILNET_CHECK_MSG(options.IsValid(&reason), reason);
   SILNET_CHECK(footprint > 0);
   const size_t cells = mesh.tetrahedra.size();
-  graph_->faces = SortedCellFaces(mesh);
+  SILNET_CHECK(faces_of_mesh.size() == 4 * cells);
+  graph_->faces = std::move(faces_of_mesh);
   const std::vector<CellFace>& faces = graph_->faces;
   // Shared faces: consecutive entries with equal ids.
   std::vector<size_t> shared;
@@ -76,9 +78,9 @@ TetGraphCut::TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labe
       const Eigen::Vector3d u = (b - a).normalized();
       const Eigen::Vector3d v = n.cross(u);
       const Eigen::Vector3d centre = (a + b + c) / 3;
-      const float up = scorer.Plane(centre, n, u, v, footprint).score;
-      const float down = scorer.Plane(centre, -n, u, v, footprint).score;
-      w = std::clamp(static_cast<double>(std::max(up, down)), 0.0, 1.0);
+      const float score =
+          scorer.PlaneEitherSide(centre, n, u, v, footprint, options.patch_prefilter).score;
+      w = std::clamp(static_cast<double>(score), 0.0, 1.0);
       scored[s] = 1;
     }
     const double t = std::tan(std::numbers::pi / 2 * (w - 1));

@@ -37,6 +37,9 @@ struct TetGraphCutOptions {
   double max_scored_face_footprints = 4;  // longer face edges: not scored (w_f = 0)
   double ballooning = 0.3;                // per free cell, x volume / footprint; 0 = none
   uint32_t ballooning_max_votes = 1;      // cells crossed by this many rays: no ballooning
+  // A face whose patch of every other point scores below this keeps that score (its cost is
+  // within 2 % of the full cost below 0.5 anyway); -1 scores every face in full.
+  double patch_prefilter = 0.4;
   int threads = 0;
 
   // True if the options make sense; otherwise false with a reason.
@@ -46,14 +49,16 @@ struct TetGraphCutOptions {
 // The cut of one mesh, kept so cells can be forced inside and the cut updated (7.4.2).
 class TetGraphCut {
  public:
-  // Builds the dual graph of `mesh` with `labels` and the rays that crossed each cell
-  // (`votes`, LabelCells; both one per cell, votes empty: every free cell balloons) and
-  // solves it. `footprint` (metres) sets the patches' point spacing and the ballooning's
-  // unit. The mesh must outlive the cut. Once `cancel` (may be null) is cancelled it stops
-  // before the max-flow: the cut is then empty (Cancelled()) and must not be forced.
-  TetGraphCut(const TetMesh& mesh, const std::vector<CellLabel>& labels,
-              const std::vector<uint32_t>& votes, const PatchScorer& scorer, double footprint,
-              const TetGraphCutOptions& options, const Progress* cancel = nullptr);
+  // Builds the dual graph of `mesh` (its `faces` from SortedCellFaces, kept) with `labels` and
+  // the rays that crossed each cell (`votes`, LabelCells; both one per cell, votes empty:
+  // every free cell balloons) and solves it. `footprint` (metres) sets the patches' point
+  // spacing and the ballooning's unit. The mesh must outlive the cut. Once `cancel` (may be
+  // null) is cancelled it stops before the max-flow: the cut is then empty (Cancelled()) and
+  // must not be forced.
+  TetGraphCut(const TetMesh& mesh, std::vector<CellFace> faces,
+              const std::vector<CellLabel>& labels, const std::vector<uint32_t>& votes,
+              const PatchScorer& scorer, double footprint, const TetGraphCutOptions& options,
+              const Progress* cancel = nullptr);
   ~TetGraphCut();
 
   // Per cell: 1 on the source (interior) side of the current cut.
@@ -72,7 +77,7 @@ class TetGraphCut {
   std::vector<int32_t> Forced() const;
   // Per cell: 1 if ForceInterior tied it to the source, 2 if ForceExterior to the sink, else 0.
   const std::vector<uint8_t>& ForcedSide() const { return forced_side_; }
-  // The mesh's faces (SortedCellFaces).
+  // The mesh's faces, as given.
   const std::vector<CellFace>& Faces() const;
 
   // True if the construction was cancelled before the cut was solved.

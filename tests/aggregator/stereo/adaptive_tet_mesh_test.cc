@@ -83,9 +83,35 @@ TEST(PatchPhotoConsistencyTest, PatchesScoreHighOnATexturedPlaneAndLowOffIt) {
       on, points, off, points);
   EXPECT_GE(on, points * 9 / 10);
   EXPECT_GE(off, points * 9 / 10);
-  // The prefilter changes no score that passes it.
-  const Eigen::Vector3d x(0.01, -0.02, 0.0);
-  EXPECT_FLOAT_EQ(scorer.BestPlane(x, footprint, 0.75).score, scorer.BestPlane(x, footprint).score);
+  // The prefilter changes no score that passes it, nor does scoring in full only the two
+  // orientations it ranks best.
+  int same = 0;
+  for (int k = 0; k < points; ++k) {
+    const Eigen::Vector3d x(0.04 * std::cos(k * 0.9), 0.04 * std::sin(k * 1.1), 0.0);
+    const float all = scorer.BestPlane(x, footprint).score;
+    EXPECT_FLOAT_EQ(scorer.BestPlane(x, footprint, 0.75).score, all);
+    same += scorer.BestPlane(x, footprint, 0.75, nullptr, 2).score == all ? 1 : 0;
+  }
+  EXPECT_EQ(same, points);
+}
+
+TEST(PatchPhotoConsistencyTest, EitherSideIsTheBetterOfTheTwoPlanes) {
+  const std::vector<StereoView> views = PlaneViews();
+  const PatchScorer scorer(views, {});
+  const double footprint = std::sqrt(2.0) / 400;
+  const Eigen::Vector3d u = Eigen::Vector3d(1, 1, 0).normalized(),
+                        v = Eigen::Vector3d(-1, 1, 0).normalized();
+  const Eigen::Vector3d n = u.cross(v);
+  for (const Eigen::Vector3d& x :
+       {Eigen::Vector3d(0.01, 0.02, 0), Eigen::Vector3d(0.03, -0.01, 0.01)}) {
+    const float up = scorer.Plane(x, n, u, v, footprint).score;
+    const float down = scorer.Plane(x, -n, u, v, footprint).score;
+    EXPECT_FLOAT_EQ(scorer.PlaneEitherSide(x, n, u, v, footprint).score, std::max(up, down));
+    EXPECT_FLOAT_EQ(scorer.PlaneEitherSide(x, -n, u, v, footprint).score, std::max(up, down));
+  }
+  // On the plane the side the cameras see scores high in full, whatever the prefilter.
+  const Eigen::Vector3d on(0.01, 0.02, 0);
+  EXPECT_GE(scorer.PlaneEitherSide(on, n, u, v, footprint, 0.4).score, 0.9f);
 }
 
 TEST(PatchPhotoConsistencyTest, OptionsAreValidated) {
@@ -201,16 +227,18 @@ TEST(AdaptiveTetMeshTest, CutWithSilhouetteStepReconstructsTheStatue) {
   CellLabelOptions label_options;
   label_options.ray_step = spacing / 2;
   label_options.ray_start = 2 * spacing;
+  label_options.min_chord = spacing / 4;
   CellLabelStats label_stats;
   std::vector<uint32_t> votes;
+  std::vector<CellFace> faces = SortedCellFaces(conforming.mesh);
   const std::vector<CellLabel> labels =
-      LabelCells(conforming.mesh, levels, adaptive.levels.back().level, scorer,
+      LabelCells(conforming.mesh, faces, levels, adaptive.levels.back().level, scorer,
                  stills.views.Cameras(), adaptive.points, label_options, &label_stats, &votes);
   ASSERT_EQ(votes.size(), labels.size());
   EXPECT_GT(label_stats.outside_hull, 0u);
   EXPECT_GT(label_stats.interior, 0u);
 
-  TetGraphCut cut(conforming.mesh, labels, votes, scorer, stills.footprint, {});
+  TetGraphCut cut(conforming.mesh, std::move(faces), labels, votes, scorer, stills.footprint, {});
   const TetPointLocator locator(conforming.mesh, 2 * spacing);
   TetSilhouetteOptions silhouette_options;
   silhouette_options.ray_step = spacing / 2;
@@ -260,7 +288,7 @@ TEST(TetSilhouetteStepTest, CellsCoveringBackgroundPixelsAreMadeExterior) {
   const PatchScorer scorer(views, {});
   TetGraphCutOptions cut_options;
   cut_options.ballooning = 5;
-  TetGraphCut cut(mesh, labels, {}, scorer, 1.5 / 200, cut_options);
+  TetGraphCut cut(mesh, SortedCellFaces(mesh), labels, {}, scorer, 1.5 / 200, cut_options);
   const TetPointLocator locator(mesh, 0.06);
   TetSilhouetteOptions options;
   options.ray_step = 0.005;
@@ -282,6 +310,47 @@ TEST(TetSilhouetteStepTest, CellsCoveringBackgroundPixelsAreMadeExterior) {
       EXPECT_FALSE(cut.Interior()[t]) << t;
     }
   }
+}
+
+// On the last level tested a face is scored only until it is crossing: the same faces cross,
+// with fewer samples scored, and its lattice is not handed down.
+TEST(CrossingFacesTest, FacesOfTheLastLevelStopOnceCrossing) {
+  const std::vector<StereoView> views = PlaneViews();
+  const PatchScorer scorer(views, {});
+  const double footprint = std::sqrt(2.0) / 400;
+  CrossingFaceOptions options;
+  options.sample_spacing = footprint;
+  options.patch_step = footprint;
+  // Faces tilted through the textured plane z = 0 (crossing) and faces 10 footprints above
+  // or below it.
+  std::vector<std::array<int32_t, 3>> ids;
+  std::vector<TriangleCorners> corners;
+  for (int k = 0; k < 24; ++k) {
+    const double angle = 2 * std::numbers::pi * k / 24;
+    const Eigen::Vector3d c(0.03 * std::cos(angle), 0.03 * std::sin(angle),
+                            (k % 3 - 1) * 10 * footprint);
+    corners.push_back({c + Eigen::Vector3d(-0.025, -0.015, -0.008),
+                       c + Eigen::Vector3d(0.025, -0.015, 0.008), c + Eigen::Vector3d(0, 0.03, 0)});
+    ids.push_back({3 * k, 3 * k + 1, 3 * k + 2});
+  }
+  CrossingFaces whole(scorer, options), cut_short(scorer, options);
+  std::vector<OrientedPoint> points_whole, points_short;
+  whole.Sample(ids, corners, &points_whole);
+  cut_short.Sample(ids, corners, &points_short, nullptr, false);
+  int crossing = 0;
+  for (const auto& face : ids) {
+    const bool a = whole.Crossing(whole.Counts(face)),
+               b = cut_short.Crossing(cut_short.Counts(face));
+    EXPECT_EQ(a, b);
+    crossing += a ? 1 : 0;
+  }
+  EXPECT_EQ(crossing, 8);
+  EXPECT_LT(cut_short.SamplesScored(), whole.SamplesScored());
+  EXPECT_EQ(points_short.size(), points_whole.size());
+  cut_short.Inherit(0, 1, 2, 100, 101, 102);
+  EXPECT_FALSE(cut_short.Known(SortedFace(0, 100, 102)));
+  whole.Inherit(0, 1, 2, 100, 101, 102);
+  EXPECT_TRUE(whole.Known(SortedFace(0, 100, 102)));
 }
 
 // Cancelled, the long loops inside a stage stop: the crossing test keeps nothing of the call,
@@ -313,7 +382,7 @@ TEST(AdaptiveStereoTest, CancelledStagesKeepNothingHalfDone) {
   const Eigen::Vector3d half = Eigen::Vector3d::Constant(0.3);
   const TetMesh mesh = BuildBccLattice(WorldBox(centre - half, centre + half), 0.03);
   const std::vector<CellLabel> labels(mesh.tetrahedra.size(), CellLabel::kFree);
-  TetGraphCut cut(mesh, labels, {}, scorer, 1.5 / 200, {}, &cancelled);
+  TetGraphCut cut(mesh, SortedCellFaces(mesh), labels, {}, scorer, 1.5 / 200, {}, &cancelled);
   EXPECT_TRUE(cut.Cancelled());
   EXPECT_EQ(std::count(cut.Interior().begin(), cut.Interior().end(), 1), 0);
   EXPECT_THROW(cut.ForceInterior({0}), CheckError);
