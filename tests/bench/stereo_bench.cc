@@ -244,6 +244,52 @@ void BM_StereoJob(benchmark::State& state) {
 }
 BENCHMARK(BM_StereoJob)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
+// The whole job with `--method adaptive` (thesis ch. 7), otherwise default settings: argument 0
+// on the simulated 16-camera ring, 1 on the Middlebury temple ring (../shared/data; an error
+// where it is absent). Seconds per stage of the adaptive stereo, its cells, the peak resident
+// set during the run. The temple takes minutes: run it alone, e.g.
+//   build/tests/bench/silnet_stereo_bench --benchmark_filter='BM_AdaptiveStereoJob/1'
+void BM_AdaptiveStereoJob(benchmark::State& state) {
+  const silnet::testing::TempDir output("silnet-stereo-bench-out");
+  StereoJobConfig config;
+  if (state.range(0) == 0) {
+    config.input = TheStills().dir.path();
+    config.calibration = TheStills().calibration;
+  } else {
+    config.input = std::filesystem::path(SILNET_SHARED_DATA_DIR) / "middlebury-templeSparseRing";
+    if (!std::filesystem::exists(config.input)) {
+      state.SkipWithError("no ../shared/data/middlebury-templeSparseRing");
+      return;
+    }
+  }
+  config.output = output.path();
+  config.method = StereoMethod::kAdaptive;
+  const bool reset = ResetPeakResidentSet();
+  StereoJobResult result;
+  for (auto _ : state) {
+    result = RunStereoJob(config, nullptr);
+    if (!result.success || !result.adaptive) {
+      state.SkipWithError(result.reason.c_str());
+      return;
+    }
+  }
+  ReportRunPeak(state, reset);
+  const AdaptiveStereoStats& a = *result.adaptive;
+  state.counters["cells"] = static_cast<double>(a.cells);
+  state.counters["mesh_s"] = a.seconds_mesh;
+  state.counters["labels_s"] = a.seconds_labels;
+  state.counters["cut_s"] = a.seconds_cut;
+  state.counters["silhouettes_s"] = a.seconds_silhouettes;
+  state.counters["surface_s"] = a.seconds_surface;
+  state.counters["total_s"] = result.seconds.total;
+}
+BENCHMARK(BM_AdaptiveStereoJob)
+    ->Arg(0)
+    ->Arg(1)
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime();
+
 // Loading the stills folder (undistorted views, masks) and gt_surface.ply.
 void BM_LoadStills16Views(benchmark::State& state) {
   const Stills& stills = TheStills();
