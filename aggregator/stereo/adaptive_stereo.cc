@@ -32,7 +32,6 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   for (const Eigen::Vector3f& v : hull.vertices)
     box.extend(v.cast<double>());
 
-  if (progress) progress->Restart("adaptive stereo", 5);
   // True (with the reason set) when the run was cancelled; else advances the progress.
   const auto cancelled = [&]() {
     if (progress && progress->cancelled()) {
@@ -47,7 +46,11 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   mesh_options.threads = options.threads;
   const AdaptiveTetMesh adaptive =
       BuildAdaptiveTetMesh(views, box, footprint, mesh_options, progress);
-  if (cancelled()) return result;
+  if (progress) progress->Restart("adaptive stereo: labels, cut, silhouettes, surface", 4);
+  if (progress && progress->cancelled()) {
+    result.reason = "cancelled";
+    return result;
+  }
   const ConformingTetMesh conforming = adaptive.mesh.Conform();
   const TetMesh& mesh = conforming.mesh;
   std::vector<int> levels;

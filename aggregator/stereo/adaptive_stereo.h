@@ -63,8 +63,9 @@ struct AdaptiveStereoResult {
 
 // Runs the stages on `views` (undistorted) whose visual hull is `hull`, `footprint` metres per
 // pixel at the object (> 0). An empty hull or an empty cut is a failure with a reason, and so
-// is cancellation through `progress` (may be null; one item per stage, polled between stages
-// and between the mesh's levels).
+// is cancellation through `progress` (may be null; restarted per level of the mesh, one item
+// per face sampled, then for the other four stages, one item each; polled within the mesh's
+// levels, the labels and the cut's face costs, and between stages).
 AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
                                        const TriangleMesh& hull, double footprint,
                                        const AdaptiveStereoOptions& options,

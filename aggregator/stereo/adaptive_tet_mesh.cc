@@ -1,5 +1,6 @@
 #include "aggregator/stereo/adaptive_tet_mesh.h"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -68,7 +69,7 @@ bool AdaptiveTetMeshOptions::IsValid(std::string* reason) const {
 
 AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const WorldBox& box,
                                      double footprint, const AdaptiveTetMeshOptions& options,
-                                     const Progress* progress) {
+                                     Progress* progress) {
   std::string reason;
   SILNET_CHECK_MSG(options.IsValid(&reason), reason);
   SILNET_CHECK(footprint > 0);
@@ -123,6 +124,10 @@ AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const
     }
     const size_t sampled_before = crossing.SampledFaces();
     const size_t scored_before = crossing.SamplesScored();
+    if (progress)
+      progress->Restart(
+          fmt::format("adaptive mesh level {} ({:.2f} mm)", level, stats.spacing * 1e3),
+          crossing.Unknown(ids));
     crossing.Sample(ids, corners, &result.points, progress, level + 1 < levels);
     if (progress && progress->cancelled()) break;
     stats.faces_sampled = crossing.SampledFaces() - sampled_before;

@@ -63,10 +63,11 @@ struct AdaptiveTetMesh {
 };
 
 // Builds the mesh over `box` (world metres) for views whose pixel footprint at the object is
-// `footprint` metres. Options must be valid and footprint > 0 (CheckError otherwise). Stops
-// after the level in progress when `progress` (may be null) is cancelled.
+// `footprint` metres. Options must be valid and footprint > 0 (CheckError otherwise).
+// `progress` (may be null) is restarted for each level tested ("adaptive mesh level L (S mm)",
+// one item per face sampled); when it is cancelled the build stops within the level.
 AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const WorldBox& box,
                                      double footprint, const AdaptiveTetMeshOptions& options,
-                                     const Progress* progress = nullptr);
+                                     Progress* progress = nullptr);
 
 }  // namespace silnet::aggregator

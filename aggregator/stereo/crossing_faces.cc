@@ -102,12 +102,8 @@ FaceSamples CrossingFaces::CountPart(const Lattice& lattice,
   return counts;
 }
 
-void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
-                           const std::vector<TriangleCorners>& corners,
-                           std::vector<OrientedPoint>* points, const Progress* cancel,
-                           bool keep_lattices) {
-  SILNET_CHECK(ids.size() == corners.size());
-  // The faces not known yet, each once however often `ids` lists it.
+std::vector<size_t> CrossingFaces::FreshFaces(
+    const std::vector<std::array<int32_t, 3>>& ids) const {
   std::vector<std::pair<std::array<int32_t, 3>, size_t>> unknown;
   for (size_t f = 0; f < ids.size(); ++f) {
     const auto sorted = SortedFace(ids[f][0], ids[f][1], ids[f][2]);
@@ -117,11 +113,25 @@ void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
   std::vector<size_t> fresh;
   for (size_t k = 0; k < unknown.size(); ++k)
     if (k == 0 || unknown[k].first != unknown[k - 1].first) fresh.push_back(unknown[k].second);
+  return fresh;
+}
+
+size_t CrossingFaces::Unknown(const std::vector<std::array<int32_t, 3>>& ids) const {
+  return FreshFaces(ids).size();
+}
+
+void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
+                           const std::vector<TriangleCorners>& corners,
+                           std::vector<OrientedPoint>* points, Progress* progress,
+                           bool keep_lattices) {
+  SILNET_CHECK(ids.size() == corners.size());
+  // The faces not known yet, each once however often `ids` lists it.
+  const std::vector<size_t> fresh = FreshFaces(ids);
 
   std::vector<Part> results(fresh.size());
   std::vector<OrientedPoint> best(fresh.size());
   std::vector<size_t> scored(fresh.size(), 0);
-  ParallelFor(fresh.size(), options_.threads, cancel, [&](size_t k) {
+  ParallelFor(fresh.size(), options_.threads, progress, [&](size_t k) {
     const size_t f = fresh[k];
     const TriangleCorners& c = corners[f];
     const double longest =
@@ -174,8 +184,9 @@ void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
     part.ids = ids[f];
     part.counts = CountPart(*lattice, part.corner);
     if (keep_lattices) part.lattice = std::move(lattice);
+    if (progress) progress->Advance();
   });
-  if (cancel && cancel->cancelled()) return;
+  if (progress && progress->cancelled()) return;
   for (size_t k = 0; k < fresh.size(); ++k) {
     samples_scored_ += scored[k];
     if (best[k].score >= options_.min_score) points->push_back(best[k]);

@@ -62,16 +62,20 @@ class CrossingFaces {
  public:
   CrossingFaces(const PatchScorer& scorer, const CrossingFaceOptions& options);
 
+  // How many distinct faces of `ids` are not known yet: the faces Sample would sample.
+  size_t Unknown(const std::vector<std::array<int32_t, 3>>& ids) const;
+
   // Samples every face not known yet (in parallel) and appends each sampled face's best
   // photo-consistent sample to `points`. `ids` are the faces' sorted vertex ids, `corners`
-  // their positions in the same order. Once `cancel` (may be null) is cancelled it stops and
-  // keeps nothing of this call: the faces stay unknown. Without `keep_lattices` (the last level
+  // their positions in the same order. `progress` (may be null) is advanced by one per face
+  // sampled; once it is cancelled Sample stops and keeps nothing of this call: the faces stay
+  // unknown. Without `keep_lattices` (the last level
   // tested: no face will be split and tested again) a face's samples are scored only until
   // they make it crossing, its best point is the best of those, and its lattice is not kept
   // (Inherit hands nothing down from it).
   void Sample(const std::vector<std::array<int32_t, 3>>& ids,
               const std::vector<TriangleCorners>& corners, std::vector<OrientedPoint>* points,
-              const Progress* cancel = nullptr, bool keep_lattices = true);
+              Progress* progress = nullptr, bool keep_lattices = true);
 
   // The face's counts; it must be known (sampled or inherited). CheckError otherwise.
   FaceSamples Counts(const std::array<int32_t, 3>& ids) const;
@@ -114,6 +118,8 @@ class CrossingFaces {
   size_t samples_scored_ = 0;
 
   const Part* Find(const std::array<int32_t, 3>& sorted_ids) const;
+  // The index in `ids` of each distinct face not known yet, in the order of its sorted ids.
+  std::vector<size_t> FreshFaces(const std::vector<std::array<int32_t, 3>>& ids) const;
 };
 
 // The sorted vertex ids of a face.
