@@ -34,13 +34,18 @@ int32_t TetRayWalker::Exit(int32_t cell, int32_t previous, const Eigen::Vector3d
     if (!(along > 0)) continue;  // the ray does not leave through this face
     const double at = std::max(*s, normal.dot(a - origin) / along);
     const bool back = across_[4 * static_cast<size_t>(cell) + o] == previous && previous >= 0;
-    if (back) {
-      if (at < fallback) fallback = at, fallback_face = o;
-    } else if (at < best) {
-      best = at, best_face = o;
+    if (back && at < fallback) {
+      fallback = at;
+      fallback_face = o;
+    } else if (!back && at < best) {
+      best = at;
+      best_face = o;
     }
   }
-  if (best_face < 0) best = fallback, best_face = fallback_face;
+  if (best_face < 0) {
+    best = fallback;
+    best_face = fallback_face;
+  }
   if (best_face < 0) return -1;
   *s = best;
   return across_[4 * static_cast<size_t>(cell) + best_face];

@@ -17,6 +17,7 @@ namespace silnet::aggregator {
 // The cells adjacent to each cell of a mesh, and walks of rays through them.
 class TetRayWalker {
  public:
+  // Cells in a row a walk may visit without getting further along its ray.
   static constexpr size_t kMaxStanding = 64;
 
   // `faces` from SortedCellFaces(mesh). The mesh must outlive the walker.
