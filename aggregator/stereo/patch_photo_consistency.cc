@@ -244,7 +244,6 @@ PatchScore PatchScorer::BestPlane(const Eigen::Vector3d& x, double step, double 
   Scratch& s = ThreadScratch();
   ProjectAll(views_, x, &s.projected);
   PatchScore best;
-  const int half = options_.mu / 2;
   const auto& orientations = CanonicalOrientations();
   // Every other point first (most orientations end there); then, in full, the orientations
   // that passed, best first, at most full_orientations of them.
@@ -256,8 +255,7 @@ PatchScore PatchScorer::BestPlane(const Eigen::Vector3d& x, double step, double 
     float coarse = 1.0f;
     if (prefilter > -1) {
       const Eigen::Vector3d u = orientations[o].unitOrthogonal();
-      PatchGrid(half, 2, u, orientations[o].cross(u), step, &s.offsets);
-      coarse = Score(s.offsets, s.chosen).score;
+      coarse = ScoreSpanned(u, orientations[o].cross(u), step, 2).score;
       if (coarse < prefilter) continue;
     }
     passed[count++] = {-coarse, static_cast<int>(o)};
@@ -268,8 +266,7 @@ PatchScore PatchScorer::BestPlane(const Eigen::Vector3d& x, double step, double 
     const int o = passed[k].second;
     ChooseViews(orientations[o], &s.chosen);
     const Eigen::Vector3d u = orientations[o].unitOrthogonal();
-    PatchGrid(half, 1, u, orientations[o].cross(u), step, &s.offsets);
-    const PatchScore score = Score(s.offsets, s.chosen);
+    const PatchScore score = ScoreSpanned(u, orientations[o].cross(u), step, 1);
     if (score.score > best.score) {
       best = score;
       if (orientation) *orientation = o;
@@ -298,17 +295,18 @@ PatchScore PatchScorer::PlaneEitherSide(const Eigen::Vector3d& x, const Eigen::V
     ChooseViews(side, &s.chosen);
     if (static_cast<int>(s.chosen.size()) < options_.min_views) continue;
     PatchScore score;
-    if (prefilter > -1) {
-      PatchGrid(options_.mu / 2, 2, u, v, step, &s.offsets);
-      score = Score(s.offsets, s.chosen);
-    }
-    if (prefilter <= -1 || score.score >= prefilter) {
-      PatchGrid(options_.mu / 2, 1, u, v, step, &s.offsets);
-      score = Score(s.offsets, s.chosen);
-    }
+    if (prefilter > -1) score = ScoreSpanned(u, v, step, 2);
+    if (prefilter <= -1 || score.score >= prefilter) score = ScoreSpanned(u, v, step, 1);
     if (score.score > best.score) best = score;
   }
   return best;
+}
+
+PatchScore PatchScorer::ScoreSpanned(const Eigen::Vector3d& u, const Eigen::Vector3d& v,
+                                     double step, int stride) const {
+  Scratch& s = ThreadScratch();
+  PatchGrid(options_.mu / 2, stride, u, v, step, &s.offsets);
+  return Score(s.offsets, s.chosen);
 }
 
 std::vector<float> PatchScorer::AlongNormal(const Eigen::Vector3d& x, const Eigen::Vector3d& normal,

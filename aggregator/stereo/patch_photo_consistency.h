@@ -103,6 +103,10 @@ class PatchScorer {
   // Scores the patch points offsets[i] around that point in the chosen views.
   PatchScore Score(const std::vector<Eigen::Vector3d>& offsets,
                    const std::vector<int>& chosen) const;
+  // Scores every `stride`-th point of the mu x mu patch spanned by u and v around that point
+  // in the views last chosen (this thread's scratch).
+  PatchScore ScoreSpanned(const Eigen::Vector3d& u, const Eigen::Vector3d& v, double step,
+                          int stride) const;
 
   std::vector<View> views_;
   PatchOptions options_;
