@@ -79,12 +79,12 @@ void RedGreenMesh::RedRefine(int32_t tet) {
   for (int e = 0; e < 6; ++e)
     m[e] = MakeMidpoint(v[kEdges[e][0]], v[kEdges[e][1]]);
   // m[0]=01 m[1]=02 m[2]=03 m[3]=12 m[4]=13 m[5]=23
-  std::vector<Tetrahedron> children = {
+  std::array<Tetrahedron, 8> children = {{
       {v[0], m[0], m[1], m[2]},
       {m[0], v[1], m[3], m[4]},
       {m[1], m[3], v[2], m[5]},
       {m[2], m[4], m[5], v[3]},
-  };
+  }};
   // The inner octahedron: three diagonals between opposite midpoints (01-23, 02-13, 03-12),
   // each with the ring of the other four in order around it.
   const int diagonals[3][2] = {{0, 5}, {1, 4}, {2, 3}};
@@ -100,8 +100,8 @@ void RedGreenMesh::RedRefine(int32_t tet) {
     }
   }
   for (int r = 0; r < 4; ++r)
-    children.push_back({m[diagonals[best][0]], m[diagonals[best][1]], m[rings[best][r]],
-                        m[rings[best][(r + 1) % 4]]});
+    children[4 + r] = {m[diagonals[best][0]], m[diagonals[best][1]], m[rings[best][r]],
+                       m[rings[best][(r + 1) % 4]]};
 
   RemoveIncidence(tet);
   const auto first = static_cast<int32_t>(tets_.size());
@@ -204,8 +204,18 @@ size_t RedGreenMesh::Refine(const std::vector<int32_t>& leaves) {
   std::vector<int32_t> pending(leaves);
   std::vector<int32_t> candidates;
   std::vector<Tetrahedron> scratch;
+  // Per tetrahedron, the last round it became a candidate in (each is listed once a round).
+  std::vector<uint32_t> listed;
+  uint32_t round = 0;
+  const auto list = [&](int32_t c) {
+    if (listed.size() <= static_cast<size_t>(c)) listed.resize(tets_.size(), 0);
+    if (listed[c] == round) return;
+    listed[c] = round;
+    candidates.push_back(c);
+  };
   size_t refined = 0;
   while (!pending.empty()) {
+    ++round;
     candidates.clear();
     for (int32_t t : pending) {
       SILNET_CHECK(t >= 0 && static_cast<size_t>(t) < tets_.size());
@@ -216,16 +226,16 @@ size_t RedGreenMesh::Refine(const std::vector<int32_t>& leaves) {
       for (int32_t v : tets_[t].v) {
         for (int32_t u : {v, parent_edge_[v][0], parent_edge_[v][1]})
           if (u >= 0)
-            candidates.insert(candidates.end(), incident_leaves_[u].begin(),
-                              incident_leaves_[u].end());
+            for (int32_t c : incident_leaves_[u])
+              list(c);
       }
       RedRefine(t);
       ++refined;
       for (int32_t c = tets_[t].first_child; c < tets_[t].first_child + 8; ++c)
-        candidates.push_back(c);
+        list(c);
     }
+    // In id order, as the closure's result must not depend on the order found.
     std::sort(candidates.begin(), candidates.end());
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
     pending.clear();
     for (int32_t c : candidates) {
       scratch.clear();

@@ -10,10 +10,11 @@
 // form would have a split edge, is red-refined too (the closure), so the conforming mesh has
 // no hanging vertex.
 
+#include <absl/container/flat_hash_map.h>
+
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "aggregator/stereo/bcc_lattice.h"
@@ -71,7 +72,7 @@ class RedGreenMesh {
 
   std::vector<Eigen::Vector3d> vertices_;
   std::vector<Node> tets_;
-  std::unordered_map<uint64_t, int32_t> midpoints_;
+  absl::flat_hash_map<uint64_t, int32_t> midpoints_;
   std::vector<std::vector<int32_t>> incident_leaves_;  // per vertex
   std::vector<std::array<int32_t, 2>> parent_edge_;    // per vertex: the edge it halves, or -1
   size_t leaf_count_ = 0;
