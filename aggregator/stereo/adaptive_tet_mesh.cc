@@ -3,10 +3,12 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
 #include "shared/util/check.h"
+#include "shared/util/parallel_for.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -15,21 +17,25 @@ namespace {
 constexpr int kFaces[4][3] = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
 
 // The cells (ids[4 c .. 4 c + 3] their faces) with a crossing face or, if the options say so,
-// a face the hull's surface crosses.
+// a face the hull's surface crosses; the cells are tested in parallel blocks.
 std::vector<int32_t> ActiveCells(const std::vector<int32_t>& cells,
                                  const std::vector<std::array<int32_t, 3>>& ids,
                                  const CrossingFaces& crossing,
                                  const AdaptiveTetMeshOptions& options) {
-  std::vector<int32_t> active;
-  for (size_t c = 0; c < cells.size(); ++c) {
-    bool crossed = false;
-    for (size_t f = 4 * c; f < 4 * c + 4 && !crossed; ++f) {
-      const FaceSamples counts = crossing.Counts(SortedFace(ids[f][0], ids[f][1], ids[f][2]));
-      crossed =
-          crossing.Crossing(counts) || (options.refine_hull_surface && counts.OnHullSurface());
+  constexpr size_t kBlock = 4096;
+  std::vector<uint8_t> crossed(cells.size(), 0);
+  ParallelFor((cells.size() + kBlock - 1) / kBlock, options.threads, [&](size_t block) {
+    for (size_t c = block * kBlock; c < std::min(cells.size(), (block + 1) * kBlock); ++c) {
+      for (size_t f = 4 * c; f < 4 * c + 4 && crossed[c] == 0; ++f) {
+        const FaceSamples counts = crossing.Counts(SortedFace(ids[f][0], ids[f][1], ids[f][2]));
+        crossed[c] =
+            crossing.Crossing(counts) || (options.refine_hull_surface && counts.OnHullSurface());
+      }
     }
-    if (crossed) active.push_back(cells[c]);
-  }
+  });
+  std::vector<int32_t> active;
+  for (size_t c = 0; c < cells.size(); ++c)
+    if (crossed[c] != 0) active.push_back(cells[c]);
   return active;
 }
 
@@ -124,11 +130,16 @@ AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const
     }
     const size_t sampled_before = crossing.SampledFaces();
     const size_t scored_before = crossing.SamplesScored();
+    const std::vector<size_t> fresh = crossing.FacesToSample(ids);
     if (progress)
       progress->Restart(
           fmt::format("adaptive mesh level {} ({:.2f} mm)", level, stats.spacing * 1e3),
-          crossing.Unknown(ids));
-    crossing.Sample(ids, corners, &result.points, progress, level + 1 < levels);
+          fresh.size());
+    const auto sampling = std::chrono::steady_clock::now();
+    const bool keep_lattices = level + 1 < levels;
+    crossing.Sample(ids, corners, fresh, &result.points, progress, keep_lattices);
+    stats.seconds_sampling =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - sampling).count();
     if (progress && progress->cancelled()) break;
     stats.faces_sampled = crossing.SampledFaces() - sampled_before;
     stats.samples_scored = crossing.SamplesScored() - scored_before;
@@ -136,13 +147,13 @@ AdaptiveTetMesh BuildAdaptiveTetMesh(const std::vector<StereoView>& views, const
     const std::vector<int32_t> active = ActiveCells(cells, ids, crossing, options);
     stats.active_cells = active.size();
     stats.refined_cells = mesh.Refine(active);
-    HandDownSamples(mesh, cells, &crossing);
+    if (keep_lattices) HandDownSamples(mesh, cells, &crossing);
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     spdlog::info(
         "adaptive mesh level {} ({:.2f} mm): {} cells, {} faces sampled ({} samples), {} active, "
-        "{} refined, {:.2f} s",
+        "{} refined, {:.2f} s ({:.2f} s sampling)",
         level, stats.spacing * 1e3, stats.cells, stats.faces_sampled, stats.samples_scored,
-        stats.active_cells, stats.refined_cells, stats.seconds);
+        stats.active_cells, stats.refined_cells, stats.seconds, stats.seconds_sampling);
     result.levels.push_back(stats);
   }
   return result;

@@ -46,13 +46,14 @@ struct AdaptiveTetMeshOptions {
 // What one level of the refinement did.
 struct AdaptiveLevelStats {
   int level = 0;
-  double spacing = 0.0;       // cube side of the level's red cells, metres
-  size_t cells = 0;           // red cells of this level tested
-  size_t faces_sampled = 0;   // faces sampled afresh (the rest inherited)
-  size_t samples_scored = 0;  // lattice samples inside the silhouettes, scored
-  size_t active_cells = 0;    // of the tested cells, with a crossing face
-  size_t refined_cells = 0;   // red-refined, the closure's included
-  double seconds = 0.0;
+  double spacing = 0.0;           // cube side of the level's red cells, metres
+  size_t cells = 0;               // red cells of this level tested
+  size_t faces_sampled = 0;       // faces sampled afresh (the rest inherited)
+  size_t samples_scored = 0;      // lattice samples inside the silhouettes, scored
+  size_t active_cells = 0;        // of the tested cells, with a crossing face
+  size_t refined_cells = 0;       // red-refined, the closure's included
+  double seconds = 0.0;           // the whole level
+  double seconds_sampling = 0.0;  // of which the faces' photo-consistency
 };
 
 // The refined mesh and what sampling it found.

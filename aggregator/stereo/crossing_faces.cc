@@ -42,19 +42,15 @@ size_t SpreadStride(size_t n) {
 
 }  // namespace
 
-uint64_t CrossingFaces::Hash(const std::array<int32_t, 3>& ids) {
-  uint64_t h = static_cast<uint32_t>(ids[0]);
-  h = h * 0x9E3779B97F4A7C15ull ^ static_cast<uint32_t>(ids[1]);
-  h = h * 0x9E3779B97F4A7C15ull ^ static_cast<uint32_t>(ids[2]);
-  return h;
+const CrossingFaces::Part* CrossingFaces::Find(const std::array<int32_t, 3>& sorted_ids) const {
+  const auto it = index_.find(sorted_ids);
+  return it == index_.end() ? nullptr : &parts_[it->second];
 }
 
-const CrossingFaces::Part* CrossingFaces::Find(const std::array<int32_t, 3>& sorted_ids) const {
-  const auto it = parts_.find(Hash(sorted_ids));
-  if (it == parts_.end()) return nullptr;
-  for (const Part& part : it->second)
-    if (SortedFace(part.ids[0], part.ids[1], part.ids[2]) == sorted_ids) return &part;
-  return nullptr;
+void CrossingFaces::Add(const std::array<int32_t, 3>& sorted_ids, Part part) {
+  SILNET_CHECK_MSG(parts_.size() < UINT32_MAX, "too many faces");
+  if (!index_.try_emplace(sorted_ids, static_cast<uint32_t>(parts_.size())).second) return;
+  parts_.push_back(std::move(part));
 }
 
 bool CrossingFaces::Known(const std::array<int32_t, 3>& ids) const {
@@ -102,7 +98,7 @@ FaceSamples CrossingFaces::CountPart(const Lattice& lattice,
   return counts;
 }
 
-std::vector<size_t> CrossingFaces::FreshFaces(
+std::vector<size_t> CrossingFaces::FacesToSample(
     const std::vector<std::array<int32_t, 3>>& ids) const {
   std::vector<std::pair<std::array<int32_t, 3>, size_t>> unknown;
   for (size_t f = 0; f < ids.size(); ++f) {
@@ -116,17 +112,18 @@ std::vector<size_t> CrossingFaces::FreshFaces(
   return fresh;
 }
 
-size_t CrossingFaces::Unknown(const std::vector<std::array<int32_t, 3>>& ids) const {
-  return FreshFaces(ids).size();
-}
-
 void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
                            const std::vector<TriangleCorners>& corners,
                            std::vector<OrientedPoint>* points, Progress* progress,
                            bool keep_lattices) {
+  Sample(ids, corners, FacesToSample(ids), points, progress, keep_lattices);
+}
+
+void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
+                           const std::vector<TriangleCorners>& corners,
+                           const std::vector<size_t>& fresh, std::vector<OrientedPoint>* points,
+                           Progress* progress, bool keep_lattices) {
   SILNET_CHECK(ids.size() == corners.size());
-  // The faces not known yet, each once however often `ids` lists it.
-  const std::vector<size_t> fresh = FreshFaces(ids);
 
   std::vector<Part> results(fresh.size());
   std::vector<OrientedPoint> best(fresh.size());
@@ -191,7 +188,7 @@ void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
     samples_scored_ += scored[k];
     if (best[k].score >= options_.min_score) points->push_back(best[k]);
     const auto sorted = SortedFace(results[k].ids[0], results[k].ids[1], results[k].ids[2]);
-    parts_[Hash(sorted)].push_back(std::move(results[k]));
+    Add(sorted, std::move(results[k]));
   }
   sampled_faces_ += fresh.size();
 }
@@ -233,7 +230,7 @@ void CrossingFaces::Inherit(int32_t a, int32_t b, int32_t c, int32_t ab, int32_t
     part.corner = corner;
     part.ids = ids;
     part.counts = CountPart(*lattice, corner);
-    parts_[Hash(sorted)].push_back(std::move(part));
+    Add(sorted, std::move(part));
   }
 }
 

@@ -11,12 +11,13 @@
 // thesis's quad-tree per face: a face of 2^k divisions per edge splits into four of 2^(k-1)),
 // so only faces new at a level (inside the refined cells) are sampled afresh.
 
+#include <absl/container/flat_hash_map.h>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
 #include <memory>
-#include <unordered_map>
 #include <vector>
 
 #include "aggregator/stereo/patch_photo_consistency.h"
@@ -62,8 +63,9 @@ class CrossingFaces {
  public:
   CrossingFaces(const PatchScorer& scorer, const CrossingFaceOptions& options);
 
-  // How many distinct faces of `ids` are not known yet: the faces Sample would sample.
-  size_t Unknown(const std::vector<std::array<int32_t, 3>>& ids) const;
+  // The index in `ids` of each distinct face not known yet (the faces Sample would sample),
+  // in the order of its sorted ids.
+  std::vector<size_t> FacesToSample(const std::vector<std::array<int32_t, 3>>& ids) const;
 
   // Samples every face not known yet (in parallel) and appends each sampled face's best
   // photo-consistent sample to `points`. `ids` are the faces' sorted vertex ids, `corners`
@@ -76,6 +78,10 @@ class CrossingFaces {
   void Sample(const std::vector<std::array<int32_t, 3>>& ids,
               const std::vector<TriangleCorners>& corners, std::vector<OrientedPoint>* points,
               Progress* progress = nullptr, bool keep_lattices = true);
+  // As above, with `fresh` = FacesToSample(ids) computed by the caller (no face known since).
+  void Sample(const std::vector<std::array<int32_t, 3>>& ids,
+              const std::vector<TriangleCorners>& corners, const std::vector<size_t>& fresh,
+              std::vector<OrientedPoint>* points, Progress* progress, bool keep_lattices);
 
   // The face's counts; it must be known (sampled or inherited). CheckError otherwise.
   FaceSamples Counts(const std::array<int32_t, 3>& ids) const;
@@ -108,18 +114,18 @@ class CrossingFaces {
     std::array<int32_t, 3> ids{};
     FaceSamples counts;
   };
-  static uint64_t Hash(const std::array<int32_t, 3>& ids);
   static FaceSamples CountPart(const Lattice& lattice, const std::array<std::array<int, 2>, 3>& c);
 
   const PatchScorer& scorer_;
   CrossingFaceOptions options_;
-  std::unordered_map<uint64_t, std::vector<Part>> parts_;  // by hash of the sorted ids
+  std::vector<Part> parts_;
+  absl::flat_hash_map<std::array<int32_t, 3>, uint32_t> index_;  // sorted ids -> part
   size_t sampled_faces_ = 0;
   size_t samples_scored_ = 0;
 
   const Part* Find(const std::array<int32_t, 3>& sorted_ids) const;
-  // The index in `ids` of each distinct face not known yet, in the order of its sorted ids.
-  std::vector<size_t> FreshFaces(const std::vector<std::array<int32_t, 3>>& ids) const;
+  // Keeps `part` under its sorted ids unless a part is kept there already.
+  void Add(const std::array<int32_t, 3>& sorted_ids, Part part);
 };
 
 // The sorted vertex ids of a face.
