@@ -131,35 +131,70 @@ void PatchScorer::ChooseViews(const Eigen::Vector3d& normal, std::vector<int>* c
     const double c = p.direction.dot(normal);
     if (c >= min_cos) s.ranked.emplace_back(-c, static_cast<int>(v));
   }
-  std::sort(s.ranked.begin(), s.ranked.end());
+  const size_t keep = std::min(s.ranked.size(), static_cast<size_t>(options_.cameras));
+  std::partial_sort(s.ranked.begin(), s.ranked.begin() + static_cast<std::ptrdiff_t>(keep),
+                    s.ranked.end());
   chosen->clear();
-  for (size_t i = 0; i < s.ranked.size() && static_cast<int>(i) < options_.cameras; ++i)
+  for (size_t i = 0; i < keep; ++i)
     chosen->push_back(s.ranked[i].second);
 }
 
-PatchScore PatchScorer::Score(const std::vector<Eigen::Vector3d>& offsets,
-                              const std::vector<int>& chosen) const {
+// Either offsets[i] (metres, any shape) or, without offsets, the plane grid x u + y v for x,
+// y in -half, -half + stride, ..., half (u and v in metres, a step apart), row by row.
+struct PatchScorer::PatchPoints {
+  const std::vector<Eigen::Vector3d>* offsets = nullptr;
+  Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
+  int half = 0, stride = 1;
+
+  size_t size() const {
+    if (offsets) return offsets->size();
+    const auto side = static_cast<size_t>(2 * half / stride + 1);
+    return side * side;
+  }
+};
+
+PatchScore PatchScorer::Score(const PatchPoints& points, const std::vector<int>& chosen) const {
   Scratch& s = ThreadScratch();
-  const size_t n = offsets.size();
+  const size_t n = points.size();
   s.values.resize(chosen.size() * n);
   int good = 0;
   uint64_t mask = 0;
   for (int view : chosen) {
     const Projected& p = s.projected[view];
     const View& image = views_[view];
+    const auto in_image = [&](const Eigen::Vector2d& q) {
+      return q.x() >= 0 && q.y() >= 0 && q.x() <= image.width - 1 && q.y() <= image.height - 1;
+    };
     float* out = s.values.data() + good * n;
-    bool inside = true;
     double sum = 0;
-    for (size_t i = 0; i < n && inside; ++i) {
-      const Eigen::Vector2d q = p.pixel + p.jacobian * offsets[i];
-      if (!(q.x() >= 0 && q.y() >= 0 && q.x() <= image.width - 1 && q.y() <= image.height - 1)) {
-        inside = false;
-        break;
+    if (points.offsets) {
+      bool inside = true;
+      for (size_t i = 0; i < n && inside; ++i) {
+        const Eigen::Vector2d q = p.pixel + p.jacobian * (*points.offsets)[i];
+        inside = in_image(q);
+        if (!inside) break;
+        out[i] = Bilinear(image.grey, q.x(), q.y());
+        sum += out[i];
       }
-      out[i] = Bilinear(image.grey, q.x(), q.y());
-      sum += out[i];
+      if (!inside) continue;
+    } else {
+      // The grid's image is affine: inside the image iff its four corners are.
+      const Eigen::Vector2d a = p.jacobian * points.u, b = p.jacobian * points.v;
+      const int first = -points.half;
+      const int last = first + (2 * points.half / points.stride) * points.stride;
+      if (!in_image(p.pixel + first * a + first * b) || !in_image(p.pixel + last * a + first * b) ||
+          !in_image(p.pixel + first * a + last * b) || !in_image(p.pixel + last * a + last * b))
+        continue;
+      size_t i = 0;
+      for (int y = first; y <= last; y += points.stride) {
+        const Eigen::Vector2d row = p.pixel + y * b;
+        for (int x = first; x <= last; x += points.stride, ++i) {
+          const Eigen::Vector2d q = row + x * a;
+          out[i] = Bilinear(image.grey, q.x(), q.y());
+          sum += out[i];
+        }
+      }
     }
-    if (!inside) continue;
     const auto mean = static_cast<float>(sum / n);
     double squares = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -280,9 +315,8 @@ PatchScore PatchScorer::Plane(const Eigen::Vector3d& x, const Eigen::Vector3d& n
                               double step) const {
   Scratch& s = ThreadScratch();
   ProjectAll(views_, x, &s.projected);
-  PatchGrid(options_.mu / 2, 1, u, v, step, &s.offsets);
   ChooseViews(normal, &s.chosen);
-  return Score(s.offsets, s.chosen);
+  return ScoreSpanned(u, v, step, 1);
 }
 
 PatchScore PatchScorer::PlaneEitherSide(const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
@@ -304,9 +338,12 @@ PatchScore PatchScorer::PlaneEitherSide(const Eigen::Vector3d& x, const Eigen::V
 
 PatchScore PatchScorer::ScoreSpanned(const Eigen::Vector3d& u, const Eigen::Vector3d& v,
                                      double step, int stride) const {
-  Scratch& s = ThreadScratch();
-  PatchGrid(options_.mu / 2, stride, u, v, step, &s.offsets);
-  return Score(s.offsets, s.chosen);
+  PatchPoints points;
+  points.u = step * u;
+  points.v = step * v;
+  points.half = options_.mu / 2;
+  points.stride = stride;
+  return Score(points, ThreadScratch().chosen);
 }
 
 std::vector<float> PatchScorer::AlongNormal(const Eigen::Vector3d& x, const Eigen::Vector3d& normal,
@@ -323,7 +360,9 @@ std::vector<float> PatchScorer::AlongNormal(const Eigen::Vector3d& x, const Eige
     s.offsets.clear();
     for (const Eigen::Vector3d& point : s.grid)
       s.offsets.push_back(point + (shift - 0.5 * curvature * point.squaredNorm()) * normal);
-    scores.push_back(Score(s.offsets, s.chosen).score);
+    PatchPoints points;
+    points.offsets = &s.offsets;
+    scores.push_back(Score(points, s.chosen).score);
   }
   return scores;
 }

@@ -100,9 +100,10 @@ class PatchScorer {
   // Views that may score a patch with `normal` at the point last projected (this thread's
   // scratch), best angle first, at most options.cameras.
   void ChooseViews(const Eigen::Vector3d& normal, std::vector<int>* chosen) const;
-  // Scores the patch points offsets[i] around that point in the chosen views.
-  PatchScore Score(const std::vector<Eigen::Vector3d>& offsets,
-                   const std::vector<int>& chosen) const;
+  // The points of a patch around the point last projected (defined in the .cc).
+  struct PatchPoints;
+  // Scores the patch's points in the chosen views.
+  PatchScore Score(const PatchPoints& points, const std::vector<int>& chosen) const;
   // Scores every `stride`-th point of the mu x mu patch spanned by u and v around that point
   // in the views last chosen (this thread's scratch).
   PatchScore ScoreSpanned(const Eigen::Vector3d& u, const Eigen::Vector3d& v, double step,

@@ -114,6 +114,26 @@ TEST(PatchPhotoConsistencyTest, EitherSideIsTheBetterOfTheTwoPlanes) {
   EXPECT_GE(scorer.PlaneEitherSide(on, n, u, v, footprint, 0.4).score, 0.9f);
 }
 
+TEST(PatchPhotoConsistencyTest, PlaneGridScoresAsItsPointsOneByOne) {
+  // Plane patches are sampled on their affine image grid; AlongNormal with no shift and no
+  // bend projects the same points one by one. The two must agree, on the plane and off it,
+  // and where the patch leaves a view's image.
+  const std::vector<StereoView> views = PlaneViews();
+  const PatchScorer scorer(views, {});
+  const double footprint = std::sqrt(2.0) / 400;
+  const Eigen::Vector3d n = Eigen::Vector3d(0.2, -0.1, 1).normalized();
+  const Eigen::Vector3d u = n.unitOrthogonal(), v = n.cross(u);
+  int scored = 0;
+  for (int k = 0; k < 30; ++k) {
+    const Eigen::Vector3d x(0.3 * std::cos(k * 0.7), 0.3 * std::sin(k * 1.3), 0.01 * (k % 5));
+    const float grid = scorer.Plane(x, n, u, v, footprint).score;
+    const float points = scorer.AlongNormal(x, n, u, v, footprint, 0.0, {0.0})[0];
+    EXPECT_NEAR(grid, points, 1e-5) << "at point " << k;
+    scored += grid > -1 ? 1 : 0;
+  }
+  EXPECT_GE(scored, 10);
+}
+
 TEST(PatchPhotoConsistencyTest, OptionsAreValidated) {
   std::string reason;
   PatchOptions options;
