@@ -88,6 +88,7 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   stats.links = cut.links();
   stats.faces_scored = cut.faces_scored();
   stats.seconds_cut = SecondsSince(start);
+  stats.seconds_max_flow = cut.seconds_max_flow();
   if (cancelled()) return result;
 
   start = Clock::now();
@@ -118,10 +119,12 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
       "adaptive stereo: {} cells ({} levels), {} quasi-dense points, {} faces scored; "
       "{} cells forced inside and {} outside by the silhouettes, {} added for a manifold "
       "surface; {} triangles; "
-      "mesh {:.1f} s, labels {:.1f} s, cut {:.1f} s, silhouettes {:.1f} s, surface {:.1f} s",
+      "mesh {:.1f} s, labels {:.1f} s, cut {:.1f} s (max-flow {:.1f} s), silhouettes {:.1f} s, "
+      "surface {:.1f} s",
       stats.cells, stats.levels.size(), stats.quasi_dense_points, stats.faces_scored, stats.forced,
       stats.forced_out, stats.repaired, result.surface.triangles.size(), stats.seconds_mesh,
-      stats.seconds_labels, stats.seconds_cut, stats.seconds_silhouettes, stats.seconds_surface);
+      stats.seconds_labels, stats.seconds_cut, stats.seconds_max_flow, stats.seconds_silhouettes,
+      stats.seconds_surface);
   if (result.surface.triangles.empty()) {
     result.reason = "the cut is empty";
     return result;

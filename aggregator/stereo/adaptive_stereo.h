@@ -51,6 +51,7 @@ struct AdaptiveStereoStats {
   double finest_spacing = 0;    // metres
   double seconds_mesh = 0, seconds_labels = 0, seconds_cut = 0, seconds_silhouettes = 0,
          seconds_surface = 0;
+  double seconds_max_flow = 0;  // of seconds_cut, the first max-flow (the rest: face costs)
 };
 
 // The model and its figures.

@@ -91,13 +91,14 @@ void WriteAdaptive(cv::FileStorage& fs, const AdaptiveStereoStats& a) {
        << "level" << l.level << "spacing_mm" << l.spacing * 1e3 << "cells" << AsInt(l.cells)
        << "faces_sampled" << AsInt(l.faces_sampled) << "samples_scored" << AsInt(l.samples_scored)
        << "active_cells" << AsInt(l.active_cells) << "refined_cells" << AsInt(l.refined_cells)
-       << "seconds" << l.seconds << "}";
+       << "seconds" << l.seconds << "seconds_sampling" << l.seconds_sampling << "}";
   }
   fs << "]"
      << "seconds"
      << "{"
      << "mesh" << a.seconds_mesh << "labels" << a.seconds_labels << "cut" << a.seconds_cut
-     << "silhouettes" << a.seconds_silhouettes << "surface" << a.seconds_surface << "}"
+     << "max_flow" << a.seconds_max_flow << "silhouettes" << a.seconds_silhouettes << "surface"
+     << a.seconds_surface << "}"
      << "}";
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // The graph cut of the adaptive stereo (thesis 7.4.1): a minimum s-t cut on the dual graph of
 // the conforming tetrahedral mesh, one node per cell, one n-link per face shared by two cells;
-// interior cells tied to the source, exterior ones to the sink (tet_cell_labels.h). A face's
+// interior cells tied to the source, exterior ones merged into the sink (tet_cell_labels.h: a
+// face between an exterior cell and another is the other's sink link). A face's
 // capacity is its cost as a piece of surface (eq. 7.2):
 //   phi(f) = (1 - exp(-tan(pi/2 (w_f - 1))^2 / sigma^2)) a_f + lambda a_f,
 // a_f the face's area, w_f its photo-consistency in [0, 1]: the best mu x mu plane patch on
@@ -67,7 +68,8 @@ class TetGraphCut {
   // outwards.
   TriangleMesh Surface() const;
   // Ties the cells to the source and updates the cut (incrementally). Returns how many were
-  // not interior before. Cells ForceExterior tied to the sink are skipped.
+  // not interior before. Cells ForceExterior tied to the sink are skipped, and so are cells
+  // labelled exterior (merged into the sink when the graph was built).
   size_t ForceInterior(const std::vector<int32_t>& cells);
   // Ties the cells to the sink and updates the cut. Returns how many were interior before.
   // Cells ForceInterior tied to the source are skipped.
@@ -85,16 +87,21 @@ class TetGraphCut {
   size_t nodes() const { return interior_.size(); }
   size_t links() const { return links_; }
   size_t faces_scored() const { return faces_scored_; }
+  // Seconds the first max-flow took (the rest of the construction is scoring the faces).
+  double seconds_max_flow() const { return seconds_max_flow_; }
   double flow() const;
 
  private:
   size_t Force(const std::vector<int32_t>& cells, bool interior);
+  // Reads interior_ from the solved flow graph.
+  void ReadSides();
   struct Graph;
   const TetMesh& mesh_;
   std::unique_ptr<Graph> graph_;
   std::vector<uint8_t> interior_;
   std::vector<uint8_t> forced_side_;
   size_t links_ = 0, faces_scored_ = 0;
+  double seconds_max_flow_ = 0;
   bool cancelled_ = false;
 };
 
