@@ -1,10 +1,10 @@
 #pragma once
 // Which faces of the adaptive tetrahedral mesh the unknown surface crosses (thesis 7.3.2).
-// A face is sampled on a triangular lattice fine enough that no pixel is skipped (spacing at
-// most one pixel footprint), every sample scored by the best line patch in the face's plane
-// (PatchScorer::BestPlane); a face is crossing when at least `crossing_fraction` of its samples,
-// or at least `crossing_samples` of them, are photo-consistent. Samples outside a silhouette
-// are outside the visual hull and never photo-consistent; they are not scored.
+// A face is sampled on a triangular lattice (spacing at most `sample_spacing`), every sample
+// scored by its best plane patch over the canonical orientations (PatchScorer::BestPlane); a face
+// is crossing when at least `crossing_fraction` of its samples, or at least `crossing_samples` of
+// them, are photo-consistent. Samples outside a silhouette are outside the visual hull and never
+// photo-consistent; they are not scored.
 //
 // A face is sampled once: its results are kept per sample, and when its tetrahedron is
 // red-refined its four halves-by-midpoint faces inherit their parts of the lattice (the
@@ -71,10 +71,11 @@ class CrossingFaces {
   // photo-consistent sample to `points`. `ids` are the faces' sorted vertex ids, `corners`
   // their positions in the same order. `progress` (may be null) is advanced by one per face
   // sampled; once it is cancelled Sample stops and keeps nothing of this call: the faces stay
-  // unknown. Without `keep_lattices` (the last level
-  // tested: no face will be split and tested again) a face's samples are scored only until
-  // they make it crossing, its best point is the best of those, and its lattice is not kept
-  // (Inherit hands nothing down from it).
+  // unknown. A face's lattice has 2^k divisions per edge, the fewest that keep the samples
+  // within sample_spacing. Without `keep_lattices` (the last level tested: no face will be
+  // split and tested again) it has the fewest divisions that do, of any number; its samples
+  // are scored only until they make it crossing, its best point is the best of those, and
+  // its lattice is not kept (Inherit hands nothing down from it).
   void Sample(const std::vector<std::array<int32_t, 3>>& ids,
               const std::vector<TriangleCorners>& corners, std::vector<OrientedPoint>* points,
               Progress* progress = nullptr, bool keep_lattices = true);
