@@ -140,7 +140,7 @@ void PatchScorer::ChooseViews(const Eigen::Vector3d& normal, std::vector<int>* c
 }
 
 // Either offsets[i] (metres, any shape) or, without offsets, the plane grid x u + y v for x,
-// y in -half, -half + stride, ..., half (u and v in metres, a step apart), row by row.
+// y in -half, -half + stride, ... up to half (u and v in metres, a step apart), row by row.
 struct PatchScorer::PatchPoints {
   const std::vector<Eigen::Vector3d>* offsets = nullptr;
   Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
