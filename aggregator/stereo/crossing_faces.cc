@@ -133,16 +133,9 @@ void CrossingFaces::Sample(const std::vector<std::array<int32_t, 3>>& ids,
     const TriangleCorners& c = corners[f];
     const double longest =
         std::max({(c[1] - c[0]).norm(), (c[2] - c[1]).norm(), (c[0] - c[2]).norm()});
-    // A kept lattice is split with its face, so its divisions are a power of two; one that
-    // is not kept needs only the spacing.
     int n = 1;
-    if (keep_lattices) {
-      while (longest / n > options_.sample_spacing && n < (1 << 12))
-        n *= 2;
-    } else {
-      n = static_cast<int>(
-          std::clamp(std::ceil(longest / options_.sample_spacing - 1e-9), 1.0, double{1 << 12}));
-    }
+    while (longest / n > options_.sample_spacing && n < (1 << 12))
+      n *= 2;
     auto lattice = std::make_shared<Lattice>();
     lattice->n = n;
     lattice->flags.assign(static_cast<size_t>((n + 1) * (n + 2) / 2), 0);

@@ -73,9 +73,9 @@ class CrossingFaces {
   // sampled; once it is cancelled Sample stops and keeps nothing of this call: the faces stay
   // unknown. A face's lattice has 2^k divisions per edge, the fewest that keep the samples
   // within sample_spacing. Without `keep_lattices` (the last level tested: no face will be
-  // split and tested again) it has the fewest divisions that do, of any number; its samples
-  // are scored only until they make it crossing, its best point is the best of those, and
-  // its lattice is not kept (Inherit hands nothing down from it).
+  // split and tested again) a face's samples are scored only until they make it crossing,
+  // its best point is the best of those, and its lattice is not kept (Inherit hands nothing
+  // down from it).
   void Sample(const std::vector<std::array<int32_t, 3>>& ids,
               const std::vector<TriangleCorners>& corners, std::vector<OrientedPoint>* points,
               Progress* progress = nullptr, bool keep_lattices = true);
