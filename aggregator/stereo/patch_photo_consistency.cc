@@ -168,15 +168,14 @@ PatchScore PatchScorer::Score(const PatchPoints& points, const std::vector<int>&
     float* out = s.values.data() + good * n;
     double sum = 0;
     if (points.offsets) {
-      bool inside = true;
-      for (size_t i = 0; i < n && inside; ++i) {
+      size_t i = 0;
+      for (; i < n; ++i) {
         const Eigen::Vector2d q = p.pixel + p.jacobian * (*points.offsets)[i];
-        inside = in_image(q);
-        if (!inside) break;
+        if (!in_image(q)) break;
         out[i] = Bilinear(image.grey, q.x(), q.y());
         sum += out[i];
       }
-      if (!inside) continue;
+      if (i < n) continue;  // a point outside the image
     } else {
       // The grid's image is affine: inside the image iff its four corners are.
       const Eigen::Vector2d a = p.jacobian * points.u, b = p.jacobian * points.v;

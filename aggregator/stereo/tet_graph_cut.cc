@@ -31,17 +31,17 @@ uint64_t SpreadBits(uint64_t x) {
   return x;
 }
 
-// Per cell, its node: the cells with kept[cell] numbered in the Z-order of their centroids, so
-// cells near in space get near node ids and the max-flow's searches touch memory near what
-// they touched last; -1 for the others.
-std::vector<int32_t> SpatialNodeOrder(const TetMesh& mesh, const std::vector<uint8_t>& kept) {
+// Per cell, its node: the cells not labelled exterior numbered in the Z-order of their
+// centroids, so cells near in space get near node ids and the max-flow's searches touch memory
+// near what they touched last; -1 for the exterior ones (merged into the sink).
+std::vector<int32_t> SpatialNodeOrder(const TetMesh& mesh, const std::vector<CellLabel>& labels) {
   Eigen::AlignedBox3d box;
   for (const Eigen::Vector3d& v : mesh.vertices)
     box.extend(v);
   const Eigen::Vector3d scale = (double{(1 << 21) - 1} / box.sizes().array().max(1e-12)).matrix();
   std::vector<std::pair<uint64_t, int32_t>> keyed;
   for (size_t t = 0; t < mesh.tetrahedra.size(); ++t) {
-    if (kept[t] == 0) continue;
+    if (labels[t] == CellLabel::kExterior) continue;
     const Tetrahedron& q = mesh.tetrahedra[t];
     const Eigen::Vector3d centre =
         (mesh.vertices[q[0]] + mesh.vertices[q[1]] + mesh.vertices[q[2]] + mesh.vertices[q[3]]) / 4;
@@ -141,12 +141,10 @@ TetGraphCut::TetGraphCut(const TetMesh& mesh, std::vector<CellFace> faces_of_mes
   const auto flow_start = std::chrono::steady_clock::now();
   // Exterior cells are merged into the sink: a face between one and a cell of the graph is
   // that cell's sink link, faces between two are left out.
-  std::vector<uint8_t> kept(cells);
-  for (size_t t = 0; t < cells; ++t)
-    kept[t] = labels[t] == CellLabel::kExterior ? 0 : 1;
-  graph_->node = SpatialNodeOrder(mesh, kept);
+  graph_->node = SpatialNodeOrder(mesh, labels);
   const std::vector<int32_t>& node = graph_->node;
-  const auto nodes = static_cast<int>(std::count(kept.begin(), kept.end(), 1));
+  const auto nodes =
+      static_cast<int>(cells - std::count(labels.begin(), labels.end(), CellLabel::kExterior));
   MaxFlowGraph& graph = graph_->flow;
   graph = MaxFlowGraph(nodes, static_cast<int64_t>(shared.size()));
   if (nodes > 0) graph.AddNodes(nodes);
