@@ -55,6 +55,15 @@ void HandDownSamples(const RedGreenMesh& mesh, const std::vector<int32_t>& cells
 
 }  // namespace
 
+void AdaptiveTetMeshOptions::SetFinestSpacing(double footprints) {
+  const AdaptiveTetMeshOptions defaults;
+  finest_spacing_footprints = footprints;
+  if (footprints > 0) {
+    base_spacing_footprints =
+        footprints * defaults.base_spacing_footprints / defaults.finest_spacing_footprints;
+  }
+}
+
 bool AdaptiveTetMeshOptions::IsValid(std::string* reason) const {
   const auto fail = [&](const char* why) {
     if (reason) *reason = why;

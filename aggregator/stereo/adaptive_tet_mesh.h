@@ -39,6 +39,10 @@ struct AdaptiveTetMeshOptions {
   PatchOptions patch;  // the patches of the crossing test
   int threads = 0;     // 0 = every core
 
+  // Sets the finest cube side to `footprints` and, if it is positive, the base lattice's in the
+  // defaults' ratio (8 times it: three levels of halving); IsValid() judges the value.
+  void SetFinestSpacing(double footprints);
+
   // True if the options make sense; otherwise false with a reason.
   bool IsValid(std::string* reason) const;
 };

@@ -137,14 +137,26 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
                                         config.graph_cut.silhouette_rounds)
                           : "");
   }
-  const PhotoConsistencyOptions& photo = config.photo_consistency;
-  const VolumetricGraphCutOptions& cut = config.graph_cut;
-  fs << "settings"
-     << "{"
-     << "neighbours" << photo.neighbours.count << "window" << photo.matching.window << "min_ncc"
-     << photo.matching.min_ncc << "pixel_step" << photo.pixel_step << "cell_size_footprints"
-     << photo.cell_size_footprints << "lambda" << cut.lambda << "ballooning" << cut.ballooning
-     << "inner_offset_fraction" << cut.inner_offset_fraction << "threads" << config.threads << "}";
+  if (config.method == StereoMethod::kAdaptive) {
+    const AdaptiveTetMeshOptions& mesh = config.adaptive.mesh;
+    const TetGraphCutOptions& cut = config.adaptive.cut;
+    fs << "settings"
+       << "{"
+       << "base_cells_footprints" << mesh.base_spacing_footprints << "finest_cells_footprints"
+       << mesh.finest_spacing_footprints << "sample_spacing_footprints"
+       << mesh.sample_spacing_footprints << "min_score" << mesh.min_score << "lambda" << cut.lambda
+       << "ballooning" << cut.ballooning << "threads" << config.threads << "}";
+  } else {
+    const PhotoConsistencyOptions& photo = config.photo_consistency;
+    const VolumetricGraphCutOptions& cut = config.graph_cut;
+    fs << "settings"
+       << "{"
+       << "neighbours" << photo.neighbours.count << "window" << photo.matching.window << "min_ncc"
+       << photo.matching.min_ncc << "pixel_step" << photo.pixel_step << "cell_size_footprints"
+       << photo.cell_size_footprints << "lambda" << cut.lambda << "ballooning" << cut.ballooning
+       << "inner_offset_fraction" << cut.inner_offset_fraction << "threads" << config.threads
+       << "}";
+  }
   fs << "views" << AsInt(result.views) << "warnings"
      << "[";
   for (const std::string& warning : result.warnings)

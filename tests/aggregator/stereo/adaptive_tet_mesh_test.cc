@@ -145,6 +145,16 @@ TEST(PatchPhotoConsistencyTest, OptionsAreValidated) {
   EXPECT_TRUE(mesh.IsValid(&reason));
   mesh.finest_spacing_footprints = 2 * mesh.base_spacing_footprints;
   EXPECT_FALSE(mesh.IsValid(&reason));
+  // Setting the finest cells keeps the defaults' three levels of halving.
+  AdaptiveTetMeshOptions coarse;
+  coarse.SetFinestSpacing(3);
+  EXPECT_DOUBLE_EQ(coarse.finest_spacing_footprints, 3);
+  EXPECT_DOUBLE_EQ(coarse.base_spacing_footprints, 24);
+  EXPECT_TRUE(coarse.IsValid(&reason));
+  coarse.SetFinestSpacing(-1);
+  EXPECT_DOUBLE_EQ(coarse.base_spacing_footprints, 24);
+  EXPECT_FALSE(coarse.IsValid(&reason));
+  EXPECT_NE(reason.find("finest_spacing_footprints"), std::string::npos) << reason;
 }
 
 // Simulated stills of the statue (a ring of 16 cameras, 480x360) with the box of their hull.

@@ -685,6 +685,45 @@ TEST(StereoCliTest, GraphCutTermsOutOfRangeForTheMethodAreInputErrors) {
   EXPECT_FALSE(std::filesystem::exists(work / "out" / "model.ply"));
 }
 
+// --finest-cells sets the adaptive mesh's finest cube side (and its base lattice, 8 times it):
+// stereo.yaml states the adaptive method's settings and the finest cells come out that many
+// footprints wide. The option is an input error with the uniform method or out of range.
+TEST(StereoCliTest, FinestCellsSetTheAdaptiveMeshAndAreInputErrorsOtherwise) {
+  const std::filesystem::path& input = SmallStills();
+  silnet::testing::TempDir work;
+  const auto run = [&](const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {"stereo",  input.string(),
+                                     "--calib", (input / "calibration.yaml").string(),
+                                     "-o",      (work / "out").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    silnet::testing::ChildProcess cli(
+        std::filesystem::path(SILNET_BINARY_DIR) / "aggregator/silnet-aggregator", args,
+        work.path());
+    const std::optional<int> status = cli.Wait(std::chrono::seconds(300));
+    return std::pair{status, cli.Stderr()};
+  };
+  const auto [uniform, uniform_error] = run({"--finest-cells", "3"});
+  EXPECT_EQ(uniform, std::optional<int>(2)) << uniform_error;
+  EXPECT_NE(uniform_error.find("--method adaptive"), std::string::npos) << uniform_error;
+  const auto [negative, negative_error] = run({"--method", "adaptive", "--finest-cells", "-1"});
+  EXPECT_EQ(negative, std::optional<int>(2)) << negative_error;
+  EXPECT_NE(negative_error.find("adaptive mesh"), std::string::npos) << negative_error;
+  EXPECT_FALSE(std::filesystem::exists(work / "out" / "model.ply"));
+
+  const auto [coarse, coarse_error] = run({"--method", "adaptive", "--finest-cells", "3"});
+  ASSERT_EQ(coarse, std::optional<int>(0)) << coarse_error;
+  cv::FileStorage fs((work / "out" / "stereo.yaml").string(), cv::FileStorage::READ);
+  ASSERT_TRUE(fs.isOpened());
+  EXPECT_DOUBLE_EQ(static_cast<double>(fs["settings"]["finest_cells_footprints"]), 3.0);
+  EXPECT_DOUBLE_EQ(static_cast<double>(fs["settings"]["base_cells_footprints"]), 24.0);
+  EXPECT_DOUBLE_EQ(static_cast<double>(fs["settings"]["ballooning"]),
+                   TetGraphCutOptions{}.ballooning);
+  const double footprint = static_cast<double>(fs["footprint_mm"]);
+  const double finest = static_cast<double>(fs["adaptive"]["finest_spacing_mm"]);
+  EXPECT_GT(finest, 2.5 * footprint);
+  EXPECT_LE(finest, 3.0 * footprint + 1e-9);
+}
+
 TEST(StereoCliTest, MissingCalibrationIsAnInputError) {
   const std::filesystem::path& input = SmallStills();
   silnet::testing::TempDir work;
