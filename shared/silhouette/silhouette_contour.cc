@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "shared/silhouette/covering_contour.h"
+#include "shared/silhouette/foreground_box.h"
 #include "shared/util/check.h"
 
 namespace silnet {
@@ -136,7 +137,7 @@ SilhouetteContours ExtractContours(const cv::Mat& mask, const ContourOptions& op
   std::vector<cv::Vec4i> hierarchy;
   // findContours treats non-zero pixels as foreground and leaves its input alone (OpenCV >=
   // 3.2); only the foreground's box matters.
-  const cv::Rect box = cv::boundingRect(mask);
+  const cv::Rect box = ForegroundBox(mask);
   if (box.area() == 0) return {};
   cv::findContours(mask(box), rings, hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_NONE, box.tl());
   // Orientation of the traced ring decides on which side the background is.

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <opencv2/imgproc.hpp>
 #include <vector>
 
 #include "aggregator/hulls/boundary_mesh.h"
@@ -15,6 +16,7 @@
 #include "aggregator/hulls/real_datasets.h"
 #include "aggregator/hulls/silhouette_interpolation.h"
 #include "aggregator/hulls/voxel_hull.h"
+#include "shared/silhouette/foreground_box.h"
 #include "shared/silhouette/silhouette_contour.h"
 #include "sim/camera_network.h"
 #include "sim/render/camera_renderer.h"
@@ -221,6 +223,23 @@ void BM_AlienContours(benchmark::State& state) {
   state.counters["contour_points"] = static_cast<double>(points);
 }
 BENCHMARK(BM_AlienContours)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
+
+// The foreground's box of the alien's 8 masks (1900x1600): the margin scan (arg 0) against
+// OpenCV's full scan (arg 1).
+void BM_AlienForegroundBox(benchmark::State& state) {
+  const RealCapture* alien = Alien();
+  if (!alien) {
+    state.SkipWithError("no real data beside the project");
+    return;
+  }
+  for (auto _ : state) {
+    for (size_t v = 0; v < 8; ++v) {
+      const cv::Mat& mask = alien->masks[v];
+      benchmark::DoNotOptimize(state.range(0) == 0 ? ForegroundBox(mask) : cv::boundingRect(mask));
+    }
+  }
+}
+BENCHMARK(BM_AlienForegroundBox)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_InterpolateSilhouette640x480(benchmark::State& state) {
   const Frame& frame = TheFrame();
