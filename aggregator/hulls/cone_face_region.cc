@@ -368,6 +368,13 @@ BuildOutcome BuildViewLines(const std::vector<CameraModel>& cameras, const ConeP
       if (build.lines.empty() && !build.corner_inside) return BuildOutcome::kEmpty;
     }
   }
+  size_t line_count = 0, event_count = 0;
+  for (int view : scratch.view_order) {
+    line_count += scratch.builds[static_cast<size_t>(view)].lines.size();
+    event_count += scratch.builds[static_cast<size_t>(view)].events.size();
+  }
+  region.lines.reserve(line_count);
+  region.events.reserve(event_count);
   for (size_t v = 0; v < views; ++v) {
     if (static_cast<int>(v) == face_view) continue;
     const ViewBuild& build = scratch.builds[v];
@@ -452,11 +459,11 @@ FaceRegion RegionOfFace(const std::vector<CameraModel>& cameras, const ConePlane
       region.reason = "the hull reaches the bounds it was computed in";
       return region;
     }
-    const auto same_intervals = [&bounds](const ChartSlab& slab) {
-      if (2 * slab.intervals.size() != bounds.size()) return false;
-      for (size_t i = 0; i < slab.intervals.size(); ++i) {
-        if (slab.intervals[i].first != bounds[2 * i].second ||
-            slab.intervals[i].second != bounds[2 * i + 1].second)
+    const auto same_intervals = [&](const ChartSlab& slab) {
+      if (2 * static_cast<size_t>(slab.count) != bounds.size()) return false;
+      for (size_t i = 0; i < static_cast<size_t>(slab.count); ++i) {
+        const std::pair<int, int>& interval = region.intervals[static_cast<size_t>(slab.first) + i];
+        if (interval.first != bounds[2 * i].second || interval.second != bounds[2 * i + 1].second)
           return false;
       }
       return true;
@@ -465,9 +472,10 @@ FaceRegion RegionOfFace(const std::vector<CameraModel>& cameras, const ConePlane
       region.slabs.back().lambda_b = b;
       continue;
     }
-    ChartSlab& slab = region.slabs.emplace_back(ChartSlab{a, b, {}});
+    region.slabs.push_back(
+        {a, b, static_cast<int>(region.intervals.size()), static_cast<int>(bounds.size() / 2)});
     for (size_t i = 0; i + 1 < bounds.size(); i += 2)
-      slab.intervals.emplace_back(bounds[i].second, bounds[i + 1].second);
+      region.intervals.emplace_back(bounds[i].second, bounds[i + 1].second);
   }
   std::sort(region.events.begin(), region.events.end(),
             [](const ChartEvent& x, const ChartEvent& y) { return x.lambda < y.lambda; });

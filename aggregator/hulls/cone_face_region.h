@@ -48,10 +48,11 @@ struct ChartEvent {
 };
 
 // Between two lambdas the region is a list of w-intervals, each between two lines (indices
-// into FaceRegion::lines), listed from low to high w.
+// into FaceRegion::lines), listed from low to high w: FaceRegion::intervals[first, first +
+// count).
 struct ChartSlab {
   double lambda_a = 0, lambda_b = 0;
-  std::vector<std::pair<int, int>> intervals;
+  int first = 0, count = 0;
 };
 
 // The face's region, or why it could not be computed.
@@ -64,6 +65,7 @@ struct FaceRegion {
   std::vector<ChartLine> lines;
   std::vector<ChartEvent> events;  // sorted by lambda; slab boundaries are event lambdas
   std::vector<ChartSlab> slabs;    // sorted, contiguous over [0, 1], merged where equal
+  std::vector<std::pair<int, int>> intervals;  // the slabs' (lower line, upper line), in order
 
   // The world point of chart point (lambda, w).
   Eigen::Vector3d Point(double lambda, double w) const {

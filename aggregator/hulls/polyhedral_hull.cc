@@ -196,7 +196,8 @@ class HullAssembler {
         }
         return corner(line, slab.lambda_a, static_cast<int>(s));
       };
-      for (const auto& [lo, hi] : slab.intervals) {
+      for (int i = slab.first; i < slab.first + slab.count; ++i) {
+        const auto [lo, hi] = region.intervals[static_cast<size_t>(i)];
         Trapezoid t;
         t.lo = lo;
         t.hi = hi;
