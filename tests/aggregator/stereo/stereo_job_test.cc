@@ -660,21 +660,29 @@ TEST(StereoJobTest, LeftOutCamerasAreNotUsedAndUnknownOnesAreAnInputError) {
   EXPECT_THROW(RunStereoJob(config, nullptr), InputError);
 }
 
+// Runs `silnet-aggregator stereo INPUT --calib INPUT/calibration.yaml -o WORK/out EXTRA...`
+// and returns its exit status (none if it outlived `timeout`) and its stderr.
+std::pair<std::optional<int>, std::string> RunStereoCommand(const std::filesystem::path& input,
+                                                            const silnet::testing::TempDir& work,
+                                                            const std::vector<std::string>& extra,
+                                                            std::chrono::seconds timeout) {
+  std::vector<std::string> args = {"stereo",  input.string(),
+                                   "--calib", (input / "calibration.yaml").string(),
+                                   "-o",      (work / "out").string()};
+  args.insert(args.end(), extra.begin(), extra.end());
+  silnet::testing::ChildProcess cli(
+      std::filesystem::path(SILNET_BINARY_DIR) / "aggregator/silnet-aggregator", args, work.path());
+  const std::optional<int> status = cli.Wait(timeout);
+  return {status, cli.Stderr()};
+}
+
 // --lambda and --ballooning set the chosen method's terms; a value out of range for it is an
 // input error naming the method's graph cut, before any work.
 TEST(StereoCliTest, GraphCutTermsOutOfRangeForTheMethodAreInputErrors) {
   const std::filesystem::path& input = SmallStills();
   silnet::testing::TempDir work;
   const auto run = [&](const std::vector<std::string>& extra) {
-    std::vector<std::string> args = {"stereo",  input.string(),
-                                     "--calib", (input / "calibration.yaml").string(),
-                                     "-o",      (work / "out").string()};
-    args.insert(args.end(), extra.begin(), extra.end());
-    silnet::testing::ChildProcess cli(
-        std::filesystem::path(SILNET_BINARY_DIR) / "aggregator/silnet-aggregator", args,
-        work.path());
-    const std::optional<int> status = cli.Wait(std::chrono::seconds(60));
-    return std::pair{status, cli.Stderr()};
+    return RunStereoCommand(input, work, extra, std::chrono::seconds(60));
   };
   const auto [adaptive, adaptive_error] = run({"--method", "adaptive", "--ballooning", "-1"});
   EXPECT_EQ(adaptive, std::optional<int>(2)) << adaptive_error;
@@ -692,15 +700,7 @@ TEST(StereoCliTest, FinestCellsSetTheAdaptiveMeshAndAreInputErrorsOtherwise) {
   const std::filesystem::path& input = SmallStills();
   silnet::testing::TempDir work;
   const auto run = [&](const std::vector<std::string>& extra) {
-    std::vector<std::string> args = {"stereo",  input.string(),
-                                     "--calib", (input / "calibration.yaml").string(),
-                                     "-o",      (work / "out").string()};
-    args.insert(args.end(), extra.begin(), extra.end());
-    silnet::testing::ChildProcess cli(
-        std::filesystem::path(SILNET_BINARY_DIR) / "aggregator/silnet-aggregator", args,
-        work.path());
-    const std::optional<int> status = cli.Wait(std::chrono::seconds(300));
-    return std::pair{status, cli.Stderr()};
+    return RunStereoCommand(input, work, extra, std::chrono::seconds(300));
   };
   const auto [uniform, uniform_error] = run({"--finest-cells", "3"});
   EXPECT_EQ(uniform, std::optional<int>(2)) << uniform_error;
