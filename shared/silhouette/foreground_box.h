@@ -8,9 +8,9 @@
 
 namespace silnet {
 
-// The smallest rectangle holding every non-zero pixel of a CV_8UC1 mask (any stride), the
-// same as cv::boundingRect(mask); an empty rectangle if there is none. CheckError for another
-// type.
+// The smallest rectangle holding every non-zero pixel of a CV_8UC1 mask (any stride; what
+// cv::boundingRect gives for a continuous mask, and right where OpenCV 4.6's is not, on some
+// views into larger images); an empty rectangle if there is none. CheckError for another type.
 cv::Rect ForegroundBox(const cv::Mat& mask);
 
 }  // namespace silnet
