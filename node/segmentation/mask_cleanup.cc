@@ -2,6 +2,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "shared/silhouette/foreground_box.h"
+
 namespace silnet::node {
 namespace {
 
@@ -15,7 +17,7 @@ CleanupStats CleanMask(cv::Mat* full_mask, const SegmentationOptions& options) {
   CleanupStats stats;
   // Work inside the foreground's bounding box, with room for the closing to grow.
   const int margin = options.close_radius + 1;
-  const cv::Rect extent = cv::boundingRect(*full_mask);
+  const cv::Rect extent = ForegroundBox(*full_mask);
   if (extent.area() == 0) return stats;
   const cv::Rect box = cv::Rect(extent.x - margin, extent.y - margin, extent.width + 2 * margin,
                                 extent.height + 2 * margin) &
@@ -49,7 +51,8 @@ CleanupStats CleanMask(cv::Mat* full_mask, const SegmentationOptions& options) {
   if (options.max_hole_area > 0 && stats.blobs > 0) {
     // Holes: background components inside the foreground's bounding box that do not touch
     // the box's border (4-connectivity, the dual of the 8-connected foreground).
-    const cv::Rect inner = cv::boundingRect(mask);
+    // (Not cv::boundingRect: OpenCV 4.6's box of a view like `mask` can come out too narrow.)
+    const cv::Rect inner = ForegroundBox(mask);
     cv::Mat roi = mask(inner);
     cv::Mat background = roi == 0;
     cv::Mat hole_labels, hole_stats, hole_centroids;
