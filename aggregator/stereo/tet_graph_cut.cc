@@ -144,7 +144,7 @@ TetGraphCut::TetGraphCut(const TetMesh& mesh, std::vector<CellFace> faces_of_mes
   graph_->node = SpatialNodeOrder(mesh, labels);
   const std::vector<int32_t>& node = graph_->node;
   const auto nodes =
-      static_cast<int>(cells - std::count(labels.begin(), labels.end(), CellLabel::kExterior));
+      static_cast<int>(std::count_if(node.begin(), node.end(), [](int32_t n) { return n >= 0; }));
   MaxFlowGraph& graph = graph_->flow;
   graph = MaxFlowGraph(nodes, static_cast<int64_t>(shared.size()));
   if (nodes > 0) graph.AddNodes(nodes);

@@ -15,17 +15,6 @@ uint64_t Word(const uint8_t* p) {
   return word;
 }
 
-// True if any of the row's `width` bytes is non-zero.
-bool RowHasForeground(const uint8_t* row, int width) {
-  uint64_t any = 0;
-  int x = 0;
-  for (; x + 8 <= width; x += 8)
-    any |= Word(row + x);
-  for (; x < width; ++x)
-    any |= row[x];
-  return any != 0;
-}
-
 // The first non-zero byte of row[0, end), or end.
 int FirstForeground(const uint8_t* row, int end) {
   int x = 0;
@@ -58,12 +47,13 @@ cv::Rect ForegroundBox(const cv::Mat& mask) {
   SILNET_CHECK_MSG(mask.type() == CV_8UC1,
                    "ForegroundBox takes CV_8UC1 masks, got " << mask.type());
   const int width = mask.cols;
+  const auto empty = [&](int y) { return FirstForeground(mask.ptr<uint8_t>(y), width) == width; };
   int top = 0;
-  while (top < mask.rows && !RowHasForeground(mask.ptr<uint8_t>(top), width))
+  while (top < mask.rows && empty(top))
     ++top;
   if (top == mask.rows) return {};
   int bottom = mask.rows - 1;
-  while (!RowHasForeground(mask.ptr<uint8_t>(bottom), width))
+  while (empty(bottom))
     --bottom;
   // Each row's margins are scanned only up to the box's current sides.
   int left = width, right = -1;

@@ -6,8 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <opencv2/imgproc.hpp>
-#include <string>
+#include <vector>
 
 namespace silnet::node {
 namespace {
@@ -16,9 +17,9 @@ namespace {
 // made foreground.
 int FilledOpenBackground(const cv::Mat& before, const cv::Mat& after) {
   cv::Mat background = before == 0, labels;
-  cv::connectedComponents(background, labels, 4, CV_32S);
+  const int components = cv::connectedComponents(background, labels, 4, CV_32S);
   int filled = 0;
-  std::vector<uint8_t> open(static_cast<size_t>(before.rows * before.cols + 1), 0);
+  std::vector<uint8_t> open(static_cast<size_t>(components), 0);
   for (int y = 0; y < before.rows; ++y) {
     for (int x = 0; x < before.cols; ++x) {
       const bool border = x == 0 || y == 0 || x == before.cols - 1 || y == before.rows - 1;
