@@ -16,7 +16,45 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// Raises the cut's ballooning while its surface misses more than the options' share of the
+// inner silhouette pixels; records the shares and the final factor.
+void RaiseBallooningWhileMissing(TetGraphCut* cut, const std::vector<StereoView>& views,
+                                 const AdaptiveStereoOptions& options, AdaptiveStereoStats* stats) {
+  for (int raises = 0;; ++raises) {
+    const double share = MissedInnerShare(cut->Surface(), views, options.silhouettes.margin_px);
+    stats->missed_share.push_back(share);
+    if (share <= options.max_missed_share || raises == options.max_ballooning_raises) break;
+    const size_t gained = cut->RaiseBallooning(options.ballooning_raise);
+    spdlog::info(
+        "adaptive stereo: the cut misses {:.1f} % of the inner silhouette pixels; "
+        "ballooning x{:.2f}: {} cells gained",
+        100 * share, cut->ballooning_factor(), gained);
+  }
+  stats->ballooning_factor = cut->ballooning_factor();
+}
+
 }  // namespace
+
+bool AdaptiveStereoOptions::IsValid(std::string* reason) const {
+  std::string why;
+  if (!mesh.IsValid(&why)) {
+    if (reason) *reason = "mesh: " + why;
+    return false;
+  }
+  if (!cut.IsValid(&why)) {
+    if (reason) *reason = "graph cut: " + why;
+    return false;
+  }
+  if (!(max_missed_share >= 0 && max_missed_share <= 1) || !(ballooning_raise >= 1) ||
+      max_ballooning_raises < 0) {
+    if (reason)
+      *reason =
+          "ballooning raise: the missed share must lie in [0, 1], the factor be >= 1 and "
+          "the raises >= 0";
+    return false;
+  }
+  return true;
+}
 
 AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
                                        const TriangleMesh& hull, double footprint,
@@ -87,8 +125,13 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   TetGraphCut cut(mesh, std::move(faces), labels, votes, scorer, footprint, cut_options, progress);
   stats.links = cut.links();
   stats.faces_scored = cut.faces_scored();
-  stats.seconds_cut = SecondsSince(start);
   stats.seconds_max_flow = cut.seconds_max_flow();
+  if (progress && progress->cancelled()) {
+    result.reason = "cancelled";
+    return result;
+  }
+  RaiseBallooningWhileMissing(&cut, views, options, &stats);
+  stats.seconds_cut = SecondsSince(start);
   if (cancelled()) return result;
 
   start = Clock::now();

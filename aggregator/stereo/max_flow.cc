@@ -37,7 +37,8 @@ struct MaxFlowGraph::Impl {
   int nodes = 0;
   int64_t edges = 0;
   bool solved = false;
-  bool pending = false;  // nodes forced since the last Solve() or Resolve()
+  bool pending = false;  // nodes changed since the last Solve() or Resolve()
+  bool forced = false;   // a node was forced since Solve()
   double total = 0;      // sum of all capacities added (t-links and both arcs of n-links)
   double flow = 0;
 };
@@ -97,6 +98,17 @@ void MaxFlowGraph::Force(int node, bool source) {
   const double capacity = impl_->total + 1.0;
   impl_->graph.add_tweights(node, source ? capacity : 0.0, source ? 0.0 : capacity);
   impl_->graph.mark_node(node);
+  impl_->pending = true;
+  impl_->forced = true;
+}
+
+void MaxFlowGraph::AddSourceCapacity(int node, double capacity) {
+  SILNET_CHECK_MSG(impl_->solved && !impl_->forced,
+                   "MaxFlowGraph: source capacity added before Solve or after forcing");
+  SILNET_CHECK(node >= 0 && node < impl_->nodes && capacity >= 0);
+  impl_->graph.add_tweights(node, capacity, 0.0);
+  impl_->graph.mark_node(node);
+  impl_->total += capacity;
   impl_->pending = true;
 }
 

@@ -50,10 +50,14 @@ class MaxFlowGraph {
   // sides is the caller's error (the cut then splits one of the ties).
   void ForceSourceSide(int node);
   void ForceSinkSide(int node);
-  // After Solve(): the maximum flow of the graph with the nodes forced since the last
-  // Solve() or Resolve(), computed from the previous flow and search trees. Returns the new
-  // value, the capacity of the changed graph's minimum cut (the forcing capacities are never
-  // cut, so it counts only the original links).
+  // After Solve() and before any node is forced: adds `capacity` (>= 0) to the source t-link
+  // of `node`. Takes effect at the next Resolve(), which reuses the flow found so far; the
+  // forcing capacity of later ForceSourceSide/ForceSinkSide calls includes it.
+  void AddSourceCapacity(int node, double capacity);
+  // After Solve(): the maximum flow of the graph with the nodes forced (or capacities added)
+  // since the last Solve() or Resolve(), computed from the previous flow and search trees. Returns
+  // the new value, the capacity of the changed graph's minimum cut (the forcing capacities are
+  // never cut, so it counts only the original links).
   double Resolve();
 
   // After Solve(), with no forcing pending: true iff `node` is on the source side of

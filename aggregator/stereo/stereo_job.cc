@@ -233,14 +233,9 @@ bool StereoJobConfig::IsValid(std::string* reason) const {
     *reason = "graph cut: " + cut;
     return false;
   }
-  std::string mesh;
-  if (!adaptive.mesh.IsValid(&mesh)) {
-    *reason = "adaptive mesh: " + mesh;
-    return false;
-  }
-  std::string adaptive_cut;
-  if (!adaptive.cut.IsValid(&adaptive_cut)) {
-    *reason = "adaptive graph cut: " + adaptive_cut;
+  std::string adaptive_reason;
+  if (!adaptive.IsValid(&adaptive_reason)) {
+    *reason = "adaptive " + adaptive_reason;
     return false;
   }
   std::string refine;

@@ -74,7 +74,13 @@ void WriteAdaptive(cv::FileStorage& fs, const AdaptiveStereoStats& a) {
      << "finest_spacing_mm" << a.finest_spacing * 1e3 << "cells_outside_hull"
      << AsInt(a.labels.outside_hull) << "cells_interior" << AsInt(a.labels.interior)
      << "cells_forced" << AsInt(a.forced) << "cells_forced_outside" << AsInt(a.forced_out)
-     << "cells_added_for_manifold" << AsInt(a.repaired) << "missed_inner_per_round"
+     << "cells_added_for_manifold" << AsInt(a.repaired) << "ballooning_factor"
+     << a.ballooning_factor << "missed_inner_share_per_raise"
+     << "[";
+  for (double share : a.missed_share)
+    fs << share;
+  fs << "]"
+     << "missed_inner_per_round"
      << "[";
   for (size_t m : a.missed)
     fs << AsInt(m);

@@ -16,6 +16,8 @@ struct TetGraphCut::Graph {
   MaxFlowGraph flow{0, 0};
   std::vector<CellFace> faces;  // sorted
   std::vector<int32_t> node;    // per cell, its node in the flow graph
+  // The ballooning's source links: node, capacity at the options' weight.
+  std::vector<std::pair<int32_t, double>> ballooning;
 };
 
 namespace {
@@ -159,6 +161,7 @@ TetGraphCut::TetGraphCut(const TetMesh& mesh, std::vector<CellFace> faces_of_mes
       const auto& x = mesh.vertices;
       const double volume = std::abs(SignedVolume6(x[q[0]], x[q[1]], x[q[2]], x[q[3]])) / 6;
       graph.AddTerminalCapacities(node[t], balloon * volume, 0);
+      graph_->ballooning.emplace_back(node[t], balloon * volume);
     }
     if (labels[t] == CellLabel::kInterior) graph.AddTerminalCapacities(node[t], total, 0);
   }
@@ -192,6 +195,25 @@ void TetGraphCut::ReadSides() {
     const int32_t n = graph_->node[t];
     interior_[t] = n >= 0 && graph_->flow.IsSourceSide(n) ? 1 : 0;
   }
+}
+
+size_t TetGraphCut::RaiseBallooning(double factor) {
+  SILNET_CHECK_MSG(!cancelled_, "a cancelled cut cannot be changed");
+  SILNET_CHECK_MSG(factor >= 1, "the ballooning can only be raised");
+  SILNET_CHECK_MSG(std::none_of(forced_side_.begin(), forced_side_.end(),
+                                [](uint8_t side) { return side != 0; }),
+                   "the ballooning is raised before any cell is forced");
+  if (factor == 1 || graph_->ballooning.empty()) return 0;
+  for (const auto& [n, capacity] : graph_->ballooning)
+    graph_->flow.AddSourceCapacity(n, (factor - 1) * capacity);
+  ballooning_factor_ *= factor;
+  const std::vector<uint8_t> before = interior_;
+  graph_->flow.Resolve();
+  ReadSides();
+  size_t gained = 0;
+  for (size_t t = 0; t < interior_.size(); ++t)
+    gained += interior_[t] > before[t] ? 1 : 0;
+  return gained;
 }
 
 size_t TetGraphCut::ForceInterior(const std::vector<int32_t>& cells) {

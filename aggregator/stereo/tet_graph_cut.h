@@ -67,6 +67,13 @@ class TetGraphCut {
   // The faces between the sides (and interior cells' faces on the mesh's boundary), oriented
   // outwards.
   TriangleMesh Surface() const;
+  // Multiplies the ballooning term by `factor` (>= 1) and updates the cut (incrementally,
+  // the same minimum cut as a graph built with the raised weight). Before any cell is forced.
+  // Returns how many cells became interior (in exact arithmetic none leaves the interior: the
+  // cut is the minimum one with the largest source side).
+  size_t RaiseBallooning(double factor);
+  // The ballooning's weight relative to the options' (1 until raised).
+  double ballooning_factor() const { return ballooning_factor_; }
   // Ties the cells to the source and updates the cut (incrementally). Returns how many were
   // not interior before. Cells ForceExterior tied to the sink are skipped, and so are cells
   // labelled exterior (merged into the sink when the graph was built).
@@ -102,6 +109,7 @@ class TetGraphCut {
   std::vector<uint8_t> forced_side_;
   size_t links_ = 0, faces_scored_ = 0;
   double seconds_max_flow_ = 0;
+  double ballooning_factor_ = 1;
   bool cancelled_ = false;
 };
 

@@ -284,6 +284,42 @@ TEST(MaxFlowGraph, ResolveMatchesGridGraphsSolvedFromScratch) {
   }
 }
 
+// Source capacity added after the solve (the adaptive cut's raised ballooning) gives the cut of
+// the graph built with it, twice in a row, and the forcing afterwards still holds.
+TEST(MaxFlowGraph, AddedSourceCapacityMatchesGridGraphsSolvedFromScratch) {
+  constexpr int kSide = 14;
+  for (int seed = 0; seed < 6; ++seed) {
+    std::mt19937_64 rng(static_cast<uint64_t>(100 + seed));
+    GridGraph g = MakeGridGraph(rng, kSide);
+    const int n = static_cast<int>(g.source.size());
+    MaxFlowGraph incremental = BuildGrid(g, {}, 0);
+    const double first = incremental.Solve();
+    for (int raise = 0; raise < 2; ++raise) {
+      for (int i = 0; i < n; ++i) {
+        incremental.AddSourceCapacity(i, g.source[i]);  // doubles it: exact in doubles
+        g.source[i] *= 2;
+      }
+      const double flow = incremental.Resolve();
+      MaxFlowGraph scratch = BuildGrid(g, {}, 0);
+      ASSERT_EQ(flow, scratch.Solve()) << "seed " << seed << " raise " << raise;
+      EXPECT_GE(flow, first);
+      int differ = 0;
+      for (int i = 0; i < n; ++i)
+        differ += incremental.IsSourceSide(i) != scratch.IsSourceSide(i) ? 1 : 0;
+      EXPECT_EQ(differ, 0) << "seed " << seed << " raise " << raise;
+    }
+    const int node = n / 2;
+    const bool source_side = incremental.IsSourceSide(node);
+    if (source_side)
+      incremental.ForceSinkSide(node);
+    else
+      incremental.ForceSourceSide(node);
+    incremental.Resolve();
+    EXPECT_NE(incremental.IsSourceSide(node), source_side);
+    EXPECT_THROW(incremental.AddSourceCapacity(0, 1), CheckError);  // after forcing
+  }
+}
+
 TEST(MaxFlowGraph, EmptyGraphAndMisuse) {
   MaxFlowGraph empty(0, 0);
   EXPECT_EQ(empty.Solve(), 0.0);
@@ -301,12 +337,14 @@ TEST(MaxFlowGraph, EmptyGraphAndMisuse) {
   graph.AddEdge(0, 1, 2, 0);
   graph.AddTerminalCapacities(1, 0, 3);
   EXPECT_THROW(graph.ForceSourceSide(0), CheckError);  // before Solve
+  EXPECT_THROW(graph.AddSourceCapacity(0, 1), CheckError);
   EXPECT_THROW(graph.Resolve(), CheckError);
   EXPECT_DOUBLE_EQ(graph.Solve(), 1.0);
   EXPECT_THROW(graph.AddNodes(1), CheckError);
   EXPECT_THROW(graph.AddEdge(0, 1, 1, 1), CheckError);
   EXPECT_THROW(graph.AddTerminalCapacities(0, 1, 0), CheckError);
   EXPECT_THROW(graph.ForceSourceSide(3), CheckError);
+  EXPECT_THROW(graph.AddSourceCapacity(0, -1), CheckError);
   EXPECT_TRUE(graph.IsSourceSide(2));  // isolated: either side, reported as source
 }
 

@@ -420,11 +420,12 @@ StereoJobResult RunSixteenViews(sim::RigLayout layout) {
 }
 
 // The adaptive tetrahedral method (thesis ch. 7, --method adaptive) on the same stills: a
-// closed model that explains its silhouettes and beats the hull, about as accurate as the
-// uniform lattice on these few small views, and the local refinement improves on its cut
-// (measured 2026-11-26 with the visibility-based ballooning: 1.05 fp, 92.7 / 98.5 % within
-// 1 / 2 fp, the cut 1.51 fp, 98.8 %; without ballooning 1.77 fp; uniform 1.07 fp,
-// 93.6 / 98.6 %; hull 4.29 fp, 94.0 %; docs/PERFORMANCE.md).
+// closed model that explains its silhouettes and beats the hull, at least as accurate as the
+// uniform lattice on these few small views, also in the concavities, and the local refinement
+// improves on its cut. With 8 views the first cut misses 24 % of the inner silhouette pixels,
+// so the ballooning is raised once (x1.5; 9 % missed after). Measured 2026-11-27: 0.88 fp,
+// 93.6 / 98.0 % within 1 / 2 fp, concave region 4.9 fp (without the raise 1.06 fp and 13.5 fp;
+// uniform 1.07 fp, 5.3 fp; hull 4.29 fp, 20.5 fp; docs/PERFORMANCE.md).
 TEST(StereoJobTest, AdaptiveMethodGivesAClosedSilhouetteConsistentModel) {
   const std::filesystem::path& input = SmallStills();
   silnet::testing::TempDir out;
@@ -442,8 +443,18 @@ TEST(StereoJobTest, AdaptiveMethodGivesAClosedSilhouetteConsistentModel) {
               result.adaptive->cells, result.model.MissedInner(), inner, model.Brief().c_str());
   EXPECT_LT(result.model.MissedInner() * 500, inner);
   EXPECT_LT(model.accuracy_footprints, result.hull.evaluation->accuracy_footprints);
-  EXPECT_LE(model.accuracy_footprints, 1.4);
+  EXPECT_LE(model.accuracy_footprints, 1.0);
   EXPECT_GE(model.completeness[1].fraction, 0.97);
+  EXPECT_GT(result.adaptive->ballooning_factor, 1.0);
+  ASSERT_GE(result.adaptive->missed_share.size(), 2u);
+  EXPECT_GT(result.adaptive->missed_share.front(), 0.2);
+  EXPECT_LE(result.adaptive->missed_share.back(), 0.2);
+  const RegionEvaluation* concave = model.Region(kConcaveRegion);
+  const RegionEvaluation* hull_concave = result.hull.evaluation->Region(kConcaveRegion);
+  ASSERT_TRUE(concave && hull_concave);
+  std::printf("[ stereo job, adaptive ] concave: model %s; hull %s\n", concave->Brief().c_str(),
+              hull_concave->Brief().c_str());
+  EXPECT_LT(concave->accuracy_footprints, 0.4 * hull_concave->accuracy_footprints);
   ASSERT_TRUE(result.cut.evaluation);
   std::printf("[ stereo job, adaptive ] the cut before refinement: %s\n",
               result.cut.evaluation->Brief().c_str());
