@@ -139,7 +139,9 @@ std::string MeshTable(const StereoJobResult& result) {
         {name, std::to_string(m.triangles), m.closed_manifold ? "yes" : "no",
          std::to_string(m.pieces), std::to_string(m.main_genus),
          fmt::format("{:.1f}", m.volume_m3 * 1e6),
-         m.views.empty() ? kNone : std::to_string(m.MissedInner()),
+         m.views.empty()
+             ? kNone
+             : fmt::format("{} ({} uncoverable)", m.MissedInner(), m.MissedUncoverable()),
          m.views.empty() ? kNone : std::to_string(m.CoveredOuter()), accuracy, completeness},
         m.closed_manifold ? "" : "bad");
   };
@@ -150,7 +152,10 @@ std::string MeshTable(const StereoJobResult& result) {
          Paragraph(
              "Silhouette pixels count when their centre lies at least 1 px inside the "
              "outline (missed) or outside it (covered); an exactly silhouette-consistent "
-             "model has 0 and 0. Accuracy and completeness are measured against the "
+             "model has 0 and 0. Uncoverable: missed pixels whose viewing ray meets no point "
+             "less than 1 px outside every other view's silhouette, where the cameras and "
+             "silhouettes disagree; no consistent model covers them. Accuracy and completeness are "
+             "measured against the "
              "simulation's true surface (gt_surface.ply) when the stills have one; fp = "
              "pixel footprints at the object.",
              "muted");

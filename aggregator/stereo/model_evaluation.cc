@@ -11,6 +11,7 @@
 
 #include "aggregator/hulls/hull_reprojection.h"
 #include "aggregator/stereo/nearest_point.h"
+#include "aggregator/stereo/uncoverable_pixels.h"
 #include "shared/util/check.h"
 
 namespace silnet::aggregator {
@@ -310,10 +311,16 @@ SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, cons
 std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(
     const TriangleMesh& model, const std::vector<StereoView>& views, double margin_px) {
   std::vector<SilhouetteConsistency> out;
-  for (const StereoView& view : views) {
-    SilhouetteConsistency c = CompareSilhouetteConsistency(RenderMeshSilhouette(model, view.camera),
-                                                           view.mask, margin_px);
+  const GrownSilhouettes grown = GrowSilhouettes(views, margin_px);
+  for (size_t v = 0; v < views.size(); ++v) {
+    const StereoView& view = views[v];
+    const cv::Mat rendered = RenderMeshSilhouette(model, view.camera);
+    SilhouetteConsistency c = CompareSilhouetteConsistency(rendered, view.mask, margin_px);
     c.camera_id = view.camera.id;
+    if (c.missed_inner > 0) {
+      const cv::Mat missed = InnerSilhouettePixels(view.mask, margin_px) & (rendered == 0);
+      c.missed_uncoverable = CountUncoverable(views, grown, v, missed);
+    }
     out.push_back(c);
   }
   return out;

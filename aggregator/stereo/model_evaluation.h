@@ -134,9 +134,12 @@ RegionEvaluation EvaluateRegion(const SurfaceRegion& region, const ModelDistance
 // The silhouette consistency of a model in one view.
 struct SilhouetteConsistency {
   std::string camera_id;
-  size_t silhouette_pixels = 0;   // mask pixels
-  size_t inner_pixels = 0;        // silhouette pixels >= margin inside the outline
-  size_t missed_inner = 0;        // of which the model does not cover
+  size_t silhouette_pixels = 0;  // mask pixels
+  size_t inner_pixels = 0;       // silhouette pixels >= margin inside the outline
+  size_t missed_inner = 0;       // of which the model does not cover
+  // Of those, pixels no model consistent with the other views covers: their rays meet no
+  // point inside every other silhouette grown by the margin (uncoverable_pixels.h).
+  size_t missed_uncoverable = 0;
   size_t outer_pixels = 0;        // background pixels >= margin outside the outline
   size_t covered_outer = 0;       // of which the model covers
   size_t missed_pixels = 0;       // all silhouette pixels not covered
@@ -156,7 +159,8 @@ cv::Mat InnerSilhouettePixels(const cv::Mat& mask, double margin_px = kSilhouett
 SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, const cv::Mat& mask,
                                                    double margin_px = kSilhouetteMarginPx);
 
-// Renders `model` into every view (RenderMeshSilhouette) and compares it with the view's mask.
+// Renders `model` into every view (RenderMeshSilhouette) and compares it with the view's mask,
+// telling the missed inner pixels no consistent model covers (missed_uncoverable) apart.
 std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(
     const TriangleMesh& model, const std::vector<StereoView>& views,
     double margin_px = kSilhouetteMarginPx);

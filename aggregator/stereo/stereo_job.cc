@@ -202,6 +202,13 @@ size_t StereoMeshSummary::CoveredOuter() const {
   return covered;
 }
 
+size_t StereoMeshSummary::MissedUncoverable() const {
+  size_t missed = 0;
+  for (const SilhouetteConsistency& v : views)
+    missed += v.missed_uncoverable;
+  return missed;
+}
+
 std::string ToString(StereoMethod method) {
   return method == StereoMethod::kAdaptive ? "adaptive" : "uniform";
 }

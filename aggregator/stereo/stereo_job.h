@@ -103,9 +103,11 @@ struct StereoMeshSummary {
   std::vector<SilhouetteConsistency> views;   // against each view's mask
   std::optional<ModelEvaluation> evaluation;  // against gt_surface.ply, when present
 
-  // Over all views: inner silhouette pixels the mesh misses, outer pixels it covers.
+  // Over all views: inner silhouette pixels the mesh misses, outer pixels it covers, and of
+  // the missed ones those no model consistent with the other views covers.
   size_t MissedInner() const;
   size_t CoveredOuter() const;
+  size_t MissedUncoverable() const;
 };
 
 // What the job did.

@@ -55,8 +55,8 @@ void WriteMesh(cv::FileStorage& fs, const std::string& name, const StereoMeshSum
      << "closed_manifold" << static_cast<int>(m.closed_manifold) << "pieces" << AsInt(m.pieces)
      << "main_genus" << static_cast<int>(m.main_genus) << "volume_m3" << m.volume_m3;
   if (!m.views.empty()) {
-    fs << "missed_inner_pixels" << AsInt(m.MissedInner()) << "covered_outer_pixels"
-       << AsInt(m.CoveredOuter());
+    fs << "missed_inner_pixels" << AsInt(m.MissedInner()) << "missed_uncoverable_pixels"
+       << AsInt(m.MissedUncoverable()) << "covered_outer_pixels" << AsInt(m.CoveredOuter());
   }
   if (m.evaluation) {
     fs << "evaluation";
@@ -203,10 +203,12 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
     fs << "{"
        << "camera" << m.camera_id << "silhouette_pixels" << AsInt(m.silhouette_pixels)
        << "inner_pixels" << AsInt(m.inner_pixels) << "missed_inner" << AsInt(m.missed_inner)
-       << "outer_pixels" << AsInt(m.outer_pixels) << "covered_outer" << AsInt(m.covered_outer);
+       << "missed_uncoverable" << AsInt(m.missed_uncoverable) << "outer_pixels"
+       << AsInt(m.outer_pixels) << "covered_outer" << AsInt(m.covered_outer);
     if (v < result.hull.views.size()) {
-      fs << "hull_missed_inner" << AsInt(result.hull.views[v].missed_inner) << "hull_covered_outer"
-         << AsInt(result.hull.views[v].covered_outer);
+      fs << "hull_missed_inner" << AsInt(result.hull.views[v].missed_inner)
+         << "hull_missed_uncoverable" << AsInt(result.hull.views[v].missed_uncoverable)
+         << "hull_covered_outer" << AsInt(result.hull.views[v].covered_outer);
     }
     fs << "}";
   }
