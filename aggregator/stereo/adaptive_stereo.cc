@@ -4,6 +4,7 @@
 
 #include <chrono>
 
+#include "aggregator/stereo/model_evaluation.h"
 #include "aggregator/stereo/tet_point_locator.h"
 #include "shared/util/check.h"
 
@@ -20,8 +21,15 @@ double SecondsSince(Clock::time_point start) {
 // inner silhouette pixels; records the shares and the final factor.
 void RaiseBallooningWhileMissing(TetGraphCut* cut, const std::vector<StereoView>& views,
                                  const AdaptiveStereoOptions& options, AdaptiveStereoStats* stats) {
+  std::vector<CameraModel> cameras;
+  std::vector<cv::Mat> masks;
+  for (const StereoView& view : views) {
+    cameras.push_back(view.camera);
+    masks.push_back(view.mask);
+  }
   for (int raises = 0;; ++raises) {
-    const double share = MissedInnerShare(cut->Surface(), views, options.silhouettes.margin_px);
+    const double share =
+        MissedInnerShare(cut->Surface(), cameras, masks, options.silhouettes.margin_px);
     stats->missed_share.push_back(share);
     if (share <= options.max_missed_share || raises == options.max_ballooning_raises) break;
     const size_t gained = cut->RaiseBallooning(options.ballooning_raise);

@@ -308,6 +308,19 @@ SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, cons
   return result;
 }
 
+double MissedInnerShare(const TriangleMesh& surface, const std::vector<CameraModel>& cameras,
+                        const std::vector<cv::Mat>& masks, double margin_px) {
+  SILNET_CHECK(cameras.size() == masks.size());
+  size_t inner_pixels = 0, missed = 0;
+  for (size_t v = 0; v < cameras.size(); ++v) {
+    const cv::Mat inner = InnerSilhouettePixels(masks[v], margin_px);
+    const cv::Mat covered = RenderMeshSilhouette(surface, cameras[v]);
+    inner_pixels += static_cast<size_t>(cv::countNonZero(inner));
+    missed += static_cast<size_t>(cv::countNonZero(inner & (covered == 0)));
+  }
+  return inner_pixels == 0 ? 0.0 : static_cast<double>(missed) / static_cast<double>(inner_pixels);
+}
+
 std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(
     const TriangleMesh& model, const std::vector<StereoView>& views, double margin_px) {
   std::vector<SilhouetteConsistency> out;

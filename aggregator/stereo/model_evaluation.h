@@ -159,6 +159,12 @@ cv::Mat InnerSilhouettePixels(const cv::Mat& mask, double margin_px = kSilhouett
 SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, const cv::Mat& mask,
                                                    double margin_px = kSilhouetteMarginPx);
 
+// The share of the silhouette pixels at least `margin_px` inside the outline of `masks`
+// (CV_8UC1, non-zero = silhouette, one per camera) that `surface` misses, rendered by the
+// undistorted `cameras` (0 when the masks have none).
+double MissedInnerShare(const TriangleMesh& surface, const std::vector<CameraModel>& cameras,
+                        const std::vector<cv::Mat>& masks, double margin_px = kSilhouetteMarginPx);
+
 // Renders `model` into every view (RenderMeshSilhouette) and compares it with the view's mask,
 // telling the missed inner pixels no consistent model covers (missed_uncoverable) apart.
 std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(

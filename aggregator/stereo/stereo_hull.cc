@@ -30,6 +30,27 @@ double FootprintAtConesCentre(const CutSilhouettes& views) {
   return sum / static_cast<double>(views.cameras.size());
 }
 
+// The hull of `views` from contours reaching beyond the pixel centres (ComputeStereoHull):
+// covering contours first; where they do not close (narrow gaps), the silhouettes grown by a
+// pixel with contours just inside the grown pixel centres. `how` names the contours used.
+PolyhedralHullResult WidenedHull(const CutSilhouettes& views,
+                                 const PolyhedralHullOptions& exact_options, std::string* how) {
+  PolyhedralHullOptions covering = exact_options;
+  covering.contour_cover_pixel_centres = true;
+  covering.contour_cover_offset_px = kWidenedCoverOffsetPx;
+  covering.contour_cover_background_slack_px = kWidenedCoverSlackPx;
+  PolyhedralHullResult widened = ComputePolyhedralHull(views.cameras, views.masks, covering);
+  *how = fmt::format("covering contours {} px beyond the pixel centres", kWidenedCoverOffsetPx);
+  if (widened.success) return widened;
+  std::vector<cv::Mat> grown(views.masks.size());
+  for (size_t v = 0; v < grown.size(); ++v)
+    cv::dilate(views.masks[v], grown[v], cv::Mat::ones(3, 3, CV_8UC1));
+  PolyhedralHullOptions dilated = exact_options;
+  dilated.contour_offset_px = kWidenedGrownOffsetPx;
+  *how = "the silhouettes grown by a pixel";
+  return ComputePolyhedralHull(views.cameras, grown, dilated);
+}
+
 }  // namespace
 
 BorderCarving CarveByBorderViews(const CutSilhouettes& border, const CutSilhouettes& bounded,
@@ -115,7 +136,24 @@ PolyhedralHullResult ComputeStereoHull(const CutSilhouettes& views, int threads,
       spdlog::warn("{}", warnings->back());
     }
   }
-  if (exact.success) return exact;
+  if (exact.success) {
+    const double missed = MissedInnerShare(exact.mesh, views.cameras, views.masks);
+    if (missed <= kWidenedHullMissedShare) return exact;
+    std::string how;
+    const PolyhedralHullResult widened = WidenedHull(views, exact_options, &how);
+    const double widened_missed =
+        widened.success ? MissedInnerShare(widened.mesh, views.cameras, views.masks) : 1.0;
+    const bool better = widened.success && widened_missed < missed;
+    warnings->push_back(fmt::format(
+        "visual hull: it misses {:.2f} % of the silhouette pixels >= 1 px inside their outlines "
+        "(the cameras and the silhouettes disagree); {}",
+        100 * missed,
+        better ? fmt::format("built again from {}: {:.2f} % missed", how, 100 * widened_missed)
+               : fmt::format("kept: the hull from {} {}", how,
+                             widened.success ? "is no better" : "failed: " + widened.reason)));
+    spdlog::warn("{}", warnings->back());
+    return better ? widened : exact;
+  }
   VoxelHullOptions carve;
   carve.voxel_size = FootprintAtConesCentre(views);
   carve.threads = threads;

@@ -2,7 +2,6 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <opencv2/core.hpp>
 
 #include "aggregator/hulls/hull_reprojection.h"
 #include "aggregator/stereo/lattice_ray.h"
@@ -56,18 +55,6 @@ void SortUnique(std::vector<int32_t>* cells) {
 }
 
 }  // namespace
-
-double MissedInnerShare(const TriangleMesh& surface, const std::vector<StereoView>& views,
-                        double margin_px) {
-  size_t inner_pixels = 0, missed = 0;
-  for (const StereoView& view : views) {
-    const cv::Mat inner = InnerSilhouettePixels(view.mask, margin_px);
-    const cv::Mat covered = RenderMeshSilhouette(surface, view.camera);
-    inner_pixels += static_cast<size_t>(cv::countNonZero(inner));
-    missed += static_cast<size_t>(cv::countNonZero(inner & (covered == 0)));
-  }
-  return inner_pixels == 0 ? 0.0 : static_cast<double>(missed) / static_cast<double>(inner_pixels);
-}
 
 TetSilhouetteStats EnforceSilhouettesOnTets(TetGraphCut* cut, const TetMesh& mesh,
                                             const std::vector<CellLabel>& labels,

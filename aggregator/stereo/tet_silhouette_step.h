@@ -37,11 +37,6 @@ struct TetSilhouetteStats {
   size_t forced_out = 0;        // cells made exterior
 };
 
-// The share of the views' silhouette pixels at least `margin_px` inside the outline that
-// `surface` misses (0 when the views have none).
-double MissedInnerShare(const TriangleMesh& surface, const std::vector<StereoView>& views,
-                        double margin_px);
-
 // Runs the step on `cut` (of `mesh` with `labels`).
 TetSilhouetteStats EnforceSilhouettesOnTets(TetGraphCut* cut, const TetMesh& mesh,
                                             const std::vector<CellLabel>& labels,

@@ -13,6 +13,7 @@
 
 #include "aggregator/hulls/hull_reprojection.h"
 #include "aggregator/hulls/polyhedral_hull.h"
+#include "aggregator/stereo/model_evaluation.h"
 #include "aggregator/stereo/stereo_hull.h"
 #include "aggregator/stereo/stills_folder.h"
 #include "tests/support/temp_dir.h"
@@ -123,18 +124,26 @@ TEST(MiddleburyDatasetTest, TempleSilhouettesAgreeWithTheCameras) {
   limits.extra_unused = 0.005;
   const StereoViews views = LoadMiddlebury(folder);
   ExpectHullAgreesWithSilhouettes(views, "temple", limits);
-  // The stereo job's hull names the repeated viewpoint.
+  // The stereo job's hull names the repeated viewpoint and, as the exact hull misses 0.63 % of
+  // the pixels >= 1 px inside the silhouettes (the given cameras are a pixel off), is built
+  // again from covering contours reaching 1.3 px beyond the pixel centres: 0.38 % missed, no
+  // pixel >= 1 px outside covered.
   CutSilhouettes silhouettes;
   silhouettes.cameras = views.Cameras();
   silhouettes.masks = views.Masks();
   std::vector<std::string> warnings;
   const PolyhedralHullResult hull = ComputeStereoHull(silhouettes, 0, &warnings);
-  EXPECT_TRUE(hull.success) << hull.reason;
+  ASSERT_TRUE(hull.success) << hull.reason;
   EXPECT_EQ(hull.stats.merged_cameras, 1u);
-  ASSERT_EQ(warnings.size(), 1u);
+  ASSERT_EQ(warnings.size(), 2u);
   EXPECT_NE(warnings[0].find("templeSR0011 was taken from the viewpoint of templeSR0001"),
             std::string::npos)
       << warnings[0];
+  EXPECT_NE(warnings[1].find("built again from covering contours"), std::string::npos)
+      << warnings[1];
+  EXPECT_LT(MissedInnerShare(hull.mesh, silhouettes.cameras, silhouettes.masks), 0.005);
+  for (const SilhouetteConsistency& view : MeasureSilhouetteConsistency(hull.mesh, views.views))
+    EXPECT_EQ(view.covered_outer, 0u) << view.camera_id;
 }
 
 // A hole in the silhouette brighter than the backdrop around the subject is a shadow pocket
