@@ -154,10 +154,9 @@ std::string MeshTable(const StereoJobResult& result) {
              "outline (missed) or outside it (covered); an exactly silhouette-consistent "
              "model has 0 and 0. Uncoverable: missed pixels whose viewing ray meets no point "
              "less than 1 px outside every other view's silhouette, where the cameras and "
-             "silhouettes disagree; no consistent model covers them. Accuracy and completeness are "
-             "measured against the "
-             "simulation's true surface (gt_surface.ply) when the stills have one; fp = "
-             "pixel footprints at the object.",
+             "silhouettes disagree; no consistent model covers them. Accuracy and "
+             "completeness are measured against the simulation's true surface "
+             "(gt_surface.ply) when the stills have one; fp = pixel footprints at the object.",
              "muted");
 }
 
