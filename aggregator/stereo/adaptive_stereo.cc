@@ -18,15 +18,10 @@ double SecondsSince(Clock::time_point start) {
 }
 
 // Raises the cut's ballooning while its surface misses more than the options' share of the
-// inner silhouette pixels; records the shares and the final factor.
-void RaiseBallooningWhileMissing(TetGraphCut* cut, const std::vector<StereoView>& views,
+// inner silhouette pixels of `masks` (one per camera); records the shares and the final factor.
+void RaiseBallooningWhileMissing(TetGraphCut* cut, const std::vector<CameraModel>& cameras,
+                                 const std::vector<cv::Mat>& masks,
                                  const AdaptiveStereoOptions& options, AdaptiveStereoStats* stats) {
-  std::vector<CameraModel> cameras;
-  std::vector<cv::Mat> masks;
-  for (const StereoView& view : views) {
-    cameras.push_back(view.camera);
-    masks.push_back(view.mask);
-  }
   for (int raises = 0;; ++raises) {
     const double share =
         MissedInnerShare(cut->Surface(), cameras, masks, options.silhouettes.margin_px);
@@ -112,8 +107,11 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   start = Clock::now();
   const PatchScorer scorer(views, options.mesh.patch);
   std::vector<CameraModel> cameras;
-  for (const StereoView& view : views)
+  std::vector<cv::Mat> masks;
+  for (const StereoView& view : views) {
     cameras.push_back(view.camera);
+    masks.push_back(view.mask);
+  }
   CellLabelOptions label_options = options.labels;
   label_options.ray_step = stats.finest_spacing / 2;
   label_options.ray_start = 2 * stats.finest_spacing;
@@ -134,11 +132,7 @@ AdaptiveStereoResult RunAdaptiveStereo(const std::vector<StereoView>& views,
   stats.links = cut.links();
   stats.faces_scored = cut.faces_scored();
   stats.seconds_max_flow = cut.seconds_max_flow();
-  if (progress && progress->cancelled()) {
-    result.reason = "cancelled";
-    return result;
-  }
-  RaiseBallooningWhileMissing(&cut, views, options, &stats);
+  if (!cut.Cancelled()) RaiseBallooningWhileMissing(&cut, cameras, masks, options, &stats);
   stats.seconds_cut = SecondsSince(start);
   if (cancelled()) return result;
 

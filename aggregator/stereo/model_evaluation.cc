@@ -274,10 +274,11 @@ cv::Mat InnerSilhouettePixels(const cv::Mat& mask, double margin_px) {
 }
 
 SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, const cv::Mat& mask,
-                                                   double margin_px) {
+                                                   double margin_px, cv::Mat* missed_inner) {
   SILNET_CHECK(rendered.type() == CV_8UC1 && mask.type() == CV_8UC1);
   SILNET_CHECK(rendered.size() == mask.size());
   const cv::Mat inner = InnerSilhouettePixels(mask, margin_px);
+  if (missed_inner) *missed_inner = inner & (rendered == 0);
   cv::Mat depth_out;
   cv::distanceTransform(mask == 0, depth_out, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
   const float threshold = static_cast<float>(margin_px + 0.5);
@@ -328,12 +329,10 @@ std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(
   for (size_t v = 0; v < views.size(); ++v) {
     const StereoView& view = views[v];
     const cv::Mat rendered = RenderMeshSilhouette(model, view.camera);
-    SilhouetteConsistency c = CompareSilhouetteConsistency(rendered, view.mask, margin_px);
+    cv::Mat missed;
+    SilhouetteConsistency c = CompareSilhouetteConsistency(rendered, view.mask, margin_px, &missed);
     c.camera_id = view.camera.id;
-    if (c.missed_inner > 0) {
-      const cv::Mat missed = InnerSilhouettePixels(view.mask, margin_px) & (rendered == 0);
-      c.missed_uncoverable = CountUncoverable(views, grown, v, missed);
-    }
+    if (c.missed_inner > 0) c.missed_uncoverable = CountUncoverable(views, grown, v, missed);
     out.push_back(c);
   }
   return out;

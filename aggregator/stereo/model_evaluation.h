@@ -155,9 +155,11 @@ inline constexpr double kSilhouetteMarginPx = 1.0;
 cv::Mat InnerSilhouettePixels(const cv::Mat& mask, double margin_px = kSilhouetteMarginPx);
 
 // Compares a coverage image (CV_8UC1, non-zero = covered) with a mask (CV_8UC1, non-zero =
-// silhouette) of the same size; CheckError otherwise.
+// silhouette) of the same size; CheckError otherwise. `missed_inner` (may be null) receives
+// the inner silhouette pixels not covered (CV_8UC1, 255).
 SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, const cv::Mat& mask,
-                                                   double margin_px = kSilhouetteMarginPx);
+                                                   double margin_px = kSilhouetteMarginPx,
+                                                   cv::Mat* missed_inner = nullptr);
 
 // The share of the silhouette pixels at least `margin_px` inside the outline of `masks`
 // (CV_8UC1, non-zero = silhouette, one per camera) that `surface` misses, rendered by the

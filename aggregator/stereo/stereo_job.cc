@@ -186,27 +186,27 @@ bool UniformModel(const StereoJobConfig& config, const StereoViews& views,
   return true;
 }
 
+// A silhouette figure summed over a mesh's views.
+size_t SumOverViews(const std::vector<SilhouetteConsistency>& views,
+                    size_t SilhouetteConsistency::*figure) {
+  size_t sum = 0;
+  for (const SilhouetteConsistency& v : views)
+    sum += v.*figure;
+  return sum;
+}
+
 }  // namespace
 
 size_t StereoMeshSummary::MissedInner() const {
-  size_t missed = 0;
-  for (const SilhouetteConsistency& v : views)
-    missed += v.missed_inner;
-  return missed;
+  return SumOverViews(views, &SilhouetteConsistency::missed_inner);
 }
 
 size_t StereoMeshSummary::CoveredOuter() const {
-  size_t covered = 0;
-  for (const SilhouetteConsistency& v : views)
-    covered += v.covered_outer;
-  return covered;
+  return SumOverViews(views, &SilhouetteConsistency::covered_outer);
 }
 
 size_t StereoMeshSummary::MissedUncoverable() const {
-  size_t missed = 0;
-  for (const SilhouetteConsistency& v : views)
-    missed += v.missed_uncoverable;
-  return missed;
+  return SumOverViews(views, &SilhouetteConsistency::missed_uncoverable);
 }
 
 std::string ToString(StereoMethod method) {

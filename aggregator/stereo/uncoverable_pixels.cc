@@ -124,6 +124,7 @@ GrownSilhouettes GrowSilhouettes(const std::vector<StereoView>& views, double ma
     cv::distanceTransform(view.mask == 0, depth_out, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
     out.grown.push_back(depth_out < static_cast<float>(margin_px + 0.5));
     out.border_cut.push_back(TouchesBorder(view.mask));
+    out.projections.push_back(view.camera.ProjectionMatrix());
   }
   return out;
 }
@@ -143,7 +144,7 @@ bool PixelCoverable(const std::vector<StereoView>& views, const GrownSilhouettes
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> homogeneous(views.size());
   for (size_t j = 0; j < views.size(); ++j) {
     if (j == v) continue;
-    const Matrix34d P = views[j].camera.ProjectionMatrix();
+    const Matrix34d& P = grown.projections[j];
     const Eigen::Vector3d h0 = P * origin.homogeneous();
     const Eigen::Vector3d h1 = P.leftCols<3>() * direction;
     homogeneous[j] = {h0, h1};

@@ -23,12 +23,13 @@
 
 namespace silnet::aggregator {
 
-// The views' silhouettes as the coverability test reads them: per view, the pixels whose
-// centres lie less than `margin_px` outside the outline (CV_8UC1, 255), and whether the
-// image border cuts the silhouette.
+// The views as the coverability test reads them: per view, the pixels whose centres lie less
+// than `margin_px` outside the outline (CV_8UC1, 255), whether the image border cuts the
+// silhouette, and the camera's projection matrix.
 struct GrownSilhouettes {
   std::vector<cv::Mat> grown;
   std::vector<bool> border_cut;
+  std::vector<Matrix34d> projections;
 };
 
 // Grows every view's mask by `margin_px` (>= 0; the outline runs half a pixel beyond the
