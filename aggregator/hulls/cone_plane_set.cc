@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace silnet::aggregator {
@@ -45,11 +46,22 @@ double PseudoAngle(double y, double x) {
   return y >= 0 ? 2 - p : -2 - p;
 }
 
+// The offset of contour point `index` of camera `view`: each coordinate uniform in
+// [-amplitude, amplitude], a fixed function of the two (splitmix64's finaliser).
+Eigen::Vector2d Perturbation(size_t view, size_t index, double amplitude) {
+  uint64_t h = (view + 1) * 0x9E3779B97F4A7C15ull ^ (index + 1) * 0xBF58476D1CE4E5B9ull;
+  h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
+  h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
+  h ^= h >> 31;
+  const auto unit = [](uint64_t bits) { return static_cast<double>(bits) / 0xFFFFFFFFp0; };
+  return amplitude * Eigen::Vector2d(2 * unit(h & 0xFFFFFFFFu) - 1, 2 * unit(h >> 32) - 1);
+}
+
 }  // namespace
 
 ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
-                           const std::vector<SilhouetteContours>& contours,
-                           const WorldBox& bounds) {
+                           const std::vector<SilhouetteContours>& contours, const WorldBox& bounds,
+                           double perturbation_px) {
   const size_t views = cameras.size();
   view_planes_.resize(views);
   for (size_t v = 0; v < views; ++v) {
@@ -66,6 +78,10 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
         points.pop_back();
       if (points.size() < 3) return;
       const int first = static_cast<int>(planes_.size());
+      if (perturbation_px > 0) {
+        for (size_t k = 0; k < points.size(); ++k)
+          points[k] += Perturbation(v, static_cast<size_t>(first) + k, perturbation_px);
+      }
       const int n = static_cast<int>(points.size());
       for (int k = 0; k < n; ++k) {
         ConePlane plane;

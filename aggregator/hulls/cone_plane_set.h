@@ -34,9 +34,15 @@ struct EdgeArc {
 class ConePlaneSet {
  public:
   // Builds the planes from one outline per camera (distortion removed) and indexes them for
-  // hulls inside `bounds` (which must not contain a camera centre).
+  // hulls inside `bounds` (which must not contain a camera centre). Every contour point is
+  // moved by a fixed pseudo-random offset of at most `perturbation_px` per coordinate (a
+  // function of its camera and index alone, so the same input always gives the same planes):
+  // exact coincidences of cameras and contours (a symmetric ring, where contour vertices lie
+  // on the image row every camera centre projects to) would otherwise make four or more cone
+  // faces meet at one point, which the faces, computed each on its own, decide differently.
   ConePlaneSet(const std::vector<CameraModel>& cameras,
-               const std::vector<SilhouetteContours>& contours, const WorldBox& bounds);
+               const std::vector<SilhouetteContours>& contours, const WorldBox& bounds,
+               double perturbation_px = 0);
 
   const std::vector<ConePlane>& Planes() const { return planes_; }
   const ConePlane& Plane(int index) const { return planes_[static_cast<size_t>(index)]; }

@@ -153,6 +153,7 @@ HullFrameResult BuildFrame(const SilhouetteSource& silhouettes,
       mesh = std::move(exact.mesh);
       result.method = "polyhedral";
       result.gaps_filled = exact.stats.gaps_filled;
+      result.contours_perturbed = exact.stats.contours_perturbed;
     } else {
       result.polyhedral_failure = exact.reason;
       spdlog::warn("frame {}: polyhedral hull failed ({}); carving voxels", frame, exact.reason);
@@ -230,6 +231,7 @@ void WriteHullIndex(const HullSequenceConfig& config, const HullSequenceResult& 
        << "volume" << f.volume_m3 << "method" << f.method;
     if (!f.polyhedral_failure.empty()) fs << "polyhedral_failure" << f.polyhedral_failure;
     if (f.gaps_filled > 0) fs << "gaps_filled" << static_cast<int>(f.gaps_filled);
+    if (f.contours_perturbed) fs << "contours_perturbed" << 1;
     fs << "views"
        << "[";
     for (const ViewReprojection& v : f.views) {

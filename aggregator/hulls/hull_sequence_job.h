@@ -65,6 +65,7 @@ struct HullFrameResult {
   std::string method;                   // "polyhedral" or "voxel"
   std::string polyhedral_failure;       // why the polyhedral hull fell back to voxels, if it did
   size_t gaps_filled = 0;               // in the polyhedral hull (PolyhedralHullStats)
+  bool contours_perturbed = false;      // the polyhedral hull closed on its retry
   std::vector<ViewReprojection> views;  // against the silhouettes the hull was carved from
 };
 

@@ -225,8 +225,8 @@ class HullAssembler {
   // Pass two, the hull's own vertices only: triangulates the polygon `region` really is (its
   // trapezoids' boundary without the sweep's cuts). False when that boundary is not closed
   // loops of named vertices or does not triangulate (a near-degenerate face); the caller then
-  // assembles every face with the cuts instead (StartOver, AddCorners naming the cuts,
-  // IndexCuts, AddTriangles).
+  // assembles every face with the cuts instead, in a new assembler (AddCorners naming the
+  // cuts, IndexCuts, AddTriangles).
   bool AddFacePolygon(const FaceRegion& region) {
     const FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
     if (face.trapezoids.empty()) return true;
@@ -254,16 +254,6 @@ class HullAssembler {
                                    : std::array<int32_t, 3>{vertex(0), vertex(1), vertex(2)});
     }
     return true;
-  }
-
-  // Forgets the corners and triangles (to assemble the faces again with the cuts).
-  void StartOver() {
-    for (FaceCorners& face : faces_) {
-      face.trapezoids.clear();
-      face.boundary.clear();
-    }
-    triangles_.clear();
-    stats_.hull_faces = 0;
   }
 
   // Pass two with the cuts: triangulates every trapezoid of `region`, its edges split wherever
@@ -577,6 +567,93 @@ int LeavesExtension(const std::vector<CameraModel>& cameras, const std::vector<i
   return -1;
 }
 
+// Every cone face's region, in parallel; false with the first failing face's reason.
+bool ComputeFaceRegions(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
+                        const WorldBox& bounds, int threads, std::vector<FaceRegion>* regions,
+                        std::string* reason) {
+  regions->assign(set.Planes().size(), FaceRegion{});
+  ParallelFor(regions->size(), threads, [&](size_t p) {
+    (*regions)[p] = ComputeFaceRegion(cameras, set, static_cast<int>(p), bounds);
+  });
+  for (const FaceRegion& region : *regions) {
+    if (!region.success) {
+      *reason = region.reason;
+      return false;
+    }
+  }
+  return true;
+}
+
+// An assembled mesh and whether it is a closed manifold.
+struct HullAssembly {
+  PolyhedralHullResult result;  // mesh and stats; success not yet set
+  bool closed = false;
+};
+
+// The faces' regions assembled in plane order: each face as the polygon it is or, with
+// `with_cuts`, as its trapezoids with the cuts the neighbouring faces made on their common
+// edges. Gaps that faces deciding a near-degenerate configuration differently leave are
+// filled up to options.widest_gap_fraction.
+HullAssembly AssembleHull(const ConePlaneSet& set, const std::vector<FaceRegion>& regions,
+                          const WorldBox& bounds, const PolyhedralHullOptions& options,
+                          bool with_cuts) {
+  HullAssembly assembly;
+  PolyhedralHullResult& result = assembly.result;
+  HullAssembler assembler(set);
+  for (const FaceRegion& region : regions)
+    assembler.AddCorners(region, with_cuts);
+  if (with_cuts) {
+    assembler.IndexCuts();
+    for (const FaceRegion& region : regions)
+      assembler.AddTriangles(region);
+  } else {
+    for (const FaceRegion& region : regions) {
+      if (!assembler.AddFacePolygon(region)) {
+        result.reason = "a face's boundary is not closed loops";
+        return assembly;
+      }
+    }
+  }
+  result.mesh = assembler.Mesh(kWeldTolerance * bounds.diagonal().norm());
+  result.stats = assembler.Stats();
+  result.stats.cone_faces = set.Planes().size();
+  result.stats.faces_with_cuts = with_cuts;
+  MeshCheck check = CheckClosedManifold(result.mesh);
+  if (check.open_edges > 0 && !result.mesh.triangles.empty()) {
+    const GapFilling filling =
+        FillInPlaneGaps(assembler.MeshVertexPlanes(result.mesh.vertices.size()), result.mesh);
+    result.stats.gaps_filled = filling.filled;
+    result.stats.gap_area = filling.area;
+    result.stats.widest_gap = filling.widest;
+    Eigen::AlignedBox3f extent;
+    for (const Eigen::Vector3f& x : result.mesh.vertices)
+      extent.extend(x);
+    const double share = filling.widest / extent.diagonal().norm();
+    if (share > options.widest_gap_fraction) {
+      result.reason = fmt::format(
+          "the polyhedral mesh is not a closed manifold: neighbouring cone faces leave a gap "
+          "{:.3g} of the hull's size wide (gaps up to {:.3g} are filled)",
+          share, options.widest_gap_fraction);
+      return assembly;
+    }
+    check = CheckClosedManifold(result.mesh);
+  }
+  assembly.closed = check.closed_manifold;
+  if (!check.closed_manifold)
+    result.reason = fmt::format("the polyhedral mesh is not a closed manifold: {}", check.reason);
+  return assembly;
+}
+
+// `result` with success set: a non-empty closed mesh.
+PolyhedralHullResult Finished(PolyhedralHullResult result) {
+  if (result.mesh.triangles.empty()) {
+    result.reason = "the viewing cones do not intersect: the hull is empty";
+  } else if (result.reason.empty()) {
+    result.success = true;
+  }
+  return result;
+}
+
 }  // namespace
 
 bool TouchesBorder(const cv::Mat& mask) {
@@ -621,79 +698,27 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     return result;
   }
   const ConePlaneSet set(cameras, contours, bounds);
-  // Every face on its own (in parallel), then assembled in plane order.
-  std::vector<FaceRegion> regions(set.Planes().size());
-  ParallelFor(regions.size(), options.threads, [&](size_t p) {
-    regions[p] = ComputeFaceRegion(cameras, set, static_cast<int>(p), bounds);
-  });
-  HullAssembler assembler(set);
-  for (const FaceRegion& region : regions) {
-    if (!region.success) {
-      result.reason = region.reason;
-      return result;
-    }
-    assembler.AddCorners(region, false);
-  }
-  // Each face as the polygon it is; where that fails or the faces do not close, every face
-  // as its trapezoids with the cuts the neighbouring faces made on their common edges.
-  // Gaps that faces deciding a near-degenerate configuration differently leave are filled.
-  const double tolerance = kWeldTolerance * bounds.diagonal().norm();
-  const auto assemble = [&] {
-    result.mesh = assembler.Mesh(tolerance);
-    result.stats = assembler.Stats();
-    result.stats.cone_faces = set.Planes().size();
-    MeshCheck check = CheckClosedManifold(result.mesh);
-    if (check.open_edges > 0 && !result.mesh.triangles.empty()) {
-      const GapFilling filling =
-          FillInPlaneGaps(assembler.MeshVertexPlanes(result.mesh.vertices.size()), result.mesh);
-      result.stats.gaps_filled = filling.filled;
-      result.stats.gap_area = filling.area;
-      result.stats.widest_gap = filling.widest;
-      Eigen::AlignedBox3f extent;
-      for (const Eigen::Vector3f& x : result.mesh.vertices)
-        extent.extend(x);
-      const double share = filling.widest / extent.diagonal().norm();
-      if (share > options.widest_gap_fraction) {
-        check.closed_manifold = false;
-        check.reason = fmt::format(
-            "neighbouring cone faces leave a gap {:.3g} of the hull's size wide (gaps up to {:.3g} "
-            "are filled)",
-            share, options.widest_gap_fraction);
-        return check;
+  std::vector<FaceRegion> regions;
+  if (!ComputeFaceRegions(cameras, set, bounds, options.threads, &regions, &result.reason))
+    return result;
+  if (options.faces_as_polygons) {
+    HullAssembly assembly = AssembleHull(set, regions, bounds, options, false);
+    if (assembly.closed) return Finished(std::move(assembly.result));
+    if (options.contour_perturbation_px > 0) {
+      const ConePlaneSet perturbed(cameras, contours, bounds, options.contour_perturbation_px);
+      std::vector<FaceRegion> perturbed_regions;
+      std::string reason;
+      if (ComputeFaceRegions(cameras, perturbed, bounds, options.threads, &perturbed_regions,
+                             &reason)) {
+        assembly = AssembleHull(perturbed, perturbed_regions, bounds, options, false);
+        if (assembly.closed) {
+          assembly.result.stats.contours_perturbed = true;
+          return Finished(std::move(assembly.result));
+        }
       }
-      check = CheckClosedManifold(result.mesh);
     }
-    return check;
-  };
-  bool own_vertices = options.faces_as_polygons;
-  for (const FaceRegion& region : regions) {
-    own_vertices = own_vertices && assembler.AddFacePolygon(region);
   }
-  MeshCheck check;
-  if (own_vertices) {
-    check = assemble();
-    own_vertices = check.closed_manifold;
-  }
-  if (!own_vertices) {
-    assembler.StartOver();
-    for (const FaceRegion& region : regions)
-      assembler.AddCorners(region, true);
-    assembler.IndexCuts();
-    for (const FaceRegion& region : regions)
-      assembler.AddTriangles(region);
-    check = assemble();
-    result.stats.faces_with_cuts = true;
-  }
-  if (result.mesh.triangles.empty()) {
-    result.reason = "the viewing cones do not intersect: the hull is empty";
-    return result;
-  }
-  if (!check.closed_manifold) {
-    result.reason = fmt::format("the polyhedral mesh is not a closed manifold: {}", check.reason);
-    return result;
-  }
-  result.success = true;
-  return result;
+  return Finished(AssembleHull(set, regions, bounds, options, true).result);
 }
 
 PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& cameras,

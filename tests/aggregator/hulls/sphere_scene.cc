@@ -40,12 +40,16 @@ std::vector<CameraModel> RingCameras(double k1, bool generic) {
 
 // Exact silhouette: a pixel is set iff the ray through its centre meets the sphere.
 cv::Mat SphereMask(const CameraModel& camera) {
+  return SphereMask(camera, SphereCentre(), kRadius);
+}
+
+cv::Mat SphereMask(const CameraModel& camera, const Eigen::Vector3d& centre, double radius) {
   cv::Mat mask = cv::Mat::zeros(camera.height, camera.width, CV_8UC1);
-  const Eigen::Vector3d to_centre = camera.R * SphereCentre() + camera.t;  // camera frame
+  const Eigen::Vector3d to_centre = camera.R * centre + camera.t;  // camera frame
   for (int y = 0; y < camera.height; ++y) {
     for (int x = 0; x < camera.width; ++x) {
       const Eigen::Vector3d ray = camera.PixelRay(Eigen::Vector2d(x, y)).normalized();
-      if (ray.dot(to_centre) > 0 && ray.cross(to_centre).norm() <= kRadius) {
+      if (ray.dot(to_centre) > 0 && ray.cross(to_centre).norm() <= radius) {
         mask.at<uint8_t>(y, x) = 255;
       }
     }
@@ -61,12 +65,16 @@ cv::Mat SphereMask(const CameraModel& camera) {
 // ring) |v . d| <= |v| sin(22.5), and the cone gives |v - (v.d) d| <= (D + v.d) tan(a).
 // With c = cos(22.5), s = sin(22.5): |v| c <= (D + |v| s) tan(a), i.e.
 // |v| <= D tan(a) / (c - s tan(a)). For D -> infinity this is r / cos(22.5): the octagon
-// circumscribing the sphere's circle.
+// circumscribing the sphere's circle. With n cameras, 22.5 degrees becomes 180 / n.
 double ConeIntersectionRadius() {
-  const double half_angle = std::asin(kRadius / kRingRadius) + std::atan(0.75 / kFocal);
+  return ConeIntersectionRadius(kRadius, kRingRadius, kFocal, kCameras);
+}
+
+double ConeIntersectionRadius(double radius, double distance, double focal, int cameras) {
+  const double half_angle = std::asin(radius / distance) + std::atan(0.75 / focal);
   const double tan_a = std::tan(half_angle);
-  const double c = std::cos(std::numbers::pi / 8), s = std::sin(std::numbers::pi / 8);
-  return kRingRadius * tan_a / (c - s * tan_a);
+  const double c = std::cos(std::numbers::pi / cameras), s = std::sin(std::numbers::pi / cameras);
+  return distance * tan_a / (c - s * tan_a);
 }
 
 SphereScene MakeSphereScene(double k1, bool generic) {

@@ -25,9 +25,14 @@ std::vector<CameraModel> RingCameras(double k1 = 0.0, bool generic = false);
 
 // Exact silhouette: a pixel is set iff the ray through its centre meets the sphere.
 cv::Mat SphereMask(const CameraModel& camera);
+// The same for the sphere of `radius` about `centre`.
+cv::Mat SphereMask(const CameraModel& camera, const Eigen::Vector3d& centre, double radius);
 
 // Bound on |X - S| over the intersection of the cameras' cones (derivation in the source).
 double ConeIntersectionRadius();
+// The same for a sphere of `radius` seen from `distance` by `cameras` cameras evenly spaced
+// on a ring through its centre with focal length `focal` pixels.
+double ConeIntersectionRadius(double radius, double distance, double focal, int cameras);
 
 // The ring cameras and their masks.
 struct SphereScene {
