@@ -49,6 +49,12 @@ struct VoxelGrid {
   }
   // World position of the centre of voxel (i, j, k).
   Eigen::Vector3d Center(int i, int j, int k) const { return Corner(i + 0.5, j + 0.5, k + 0.5); }
+  // World position of the centre of the voxel with Index `index`.
+  Eigen::Vector3d CenterOf(size_t index) const {
+    const auto nx = static_cast<size_t>(dims[0]), ny = static_cast<size_t>(dims[1]);
+    return Center(static_cast<int>(index % nx), static_cast<int>(index / nx % ny),
+                  static_cast<int>(index / nx / ny));
+  }
   // Number of occupied voxels.
   size_t CountOccupied() const;
   // The world box the grid covers.

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <utility>
@@ -81,11 +83,7 @@ BorderCarving CarveByBorderViews(const CutSilhouettes& border, const CutSilhouet
     // Only pixels a carved cell projects near can have lost their cover.
     cv::Mat near_carved = cv::Mat::zeros(camera.height, camera.width, CV_8UC1);
     for (size_t cell : carved) {
-      const int i = static_cast<int>(cell % static_cast<size_t>(grid->dims[0]));
-      const size_t rest = cell / static_cast<size_t>(grid->dims[0]);
-      const int j = static_cast<int>(rest % static_cast<size_t>(grid->dims[1]));
-      const int k = static_cast<int>(rest / static_cast<size_t>(grid->dims[1]));
-      const auto uv = camera.Project(grid->Center(i, j, k));
+      const auto uv = camera.Project(grid->CenterOf(cell));
       if (!uv) continue;
       const int x = static_cast<int>(std::floor(uv->x() + 0.5));
       const int y = static_cast<int>(std::floor(uv->y() + 0.5));
@@ -109,12 +107,38 @@ BorderCarving CarveByBorderViews(const CutSilhouettes& border, const CutSilhouet
       }
     }
   }
+  // Per ray, the one carved cell the border views see least far outside their silhouettes.
+  std::vector<cv::Mat> outside(border.cameras.size());
+  for (size_t v = 0; v < outside.size(); ++v) {
+    cv::Mat background;
+    cv::compare(border.masks[v], 0, background, cv::CMP_EQ);
+    cv::distanceTransform(background, outside[v], cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  }
+  const auto outside_distance = [&](size_t cell) {
+    float worst = 0;
+    for (size_t v = 0; v < outside.size(); ++v) {
+      const auto uv = border.cameras[v].Project(grid->CenterOf(cell));
+      if (!uv) continue;
+      const int x = static_cast<int>(std::floor(uv->x() + 0.5));
+      const int y = static_cast<int>(std::floor(uv->y() + 0.5));
+      if (x >= 0 && y >= 0 && x < outside[v].cols && y < outside[v].rows)
+        worst = std::max(worst, outside[v].at<float>(y, x));
+    }
+    return worst;
+  };
   for (const auto& [centre, direction] : rays) {
+    bool covered = false;
+    size_t best = 0;
+    float best_distance = std::numeric_limits<float>::infinity();
     WalkRay(*grid, centre, direction, [&](double, size_t cell) {
-      if (was_carved[cell] == 0 || grid->occupied[cell] != 0) return;
-      grid->occupied[cell] = 1;
-      ++carving.restored;
+      covered = covered || grid->occupied[cell] != 0;
+      if (covered || was_carved[cell] == 0) return;
+      const float distance = outside_distance(cell);
+      if (distance < best_distance) best_distance = distance, best = cell;
     });
+    if (covered || !std::isfinite(best_distance)) continue;
+    grid->occupied[best] = 1;
+    ++carving.restored;
   }
   return carving;
 }

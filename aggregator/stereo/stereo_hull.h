@@ -23,10 +23,12 @@ struct BorderCarving {
 // Clears the occupied cells of `grid` whose centres a view of `border` sees at a background
 // pixel (VoxelCentreInHull's rule: a centre projecting outside a view's image is not carved by
 // it), so views whose silhouettes the image border cuts still bound the subject inside their
-// images. Then gives back the cleared cells on the ray of every pixel at least `margin_px`
-// inside a silhouette of `bounded` (InnerSilhouettePixels) that would otherwise meet no
-// occupied cell: where the views disagree, a silhouette pixel wins over a border view's
-// background (a shadow on the subject read as backdrop). Cameras are undistorted.
+// images. Then, on the ray of every pixel at least `margin_px` inside a silhouette of
+// `bounded` (InnerSilhouettePixels) that would otherwise meet no occupied cell, gives back the
+// one cleared cell the border views see least far outside their silhouettes (unless a cell
+// given back for another ray already lies on it): where the views disagree, a silhouette pixel
+// wins over a border view's background (a shadow on the subject read as backdrop), at the
+// least cost in the border views' outer pixels. Cameras are undistorted.
 BorderCarving CarveByBorderViews(const CutSilhouettes& border, const CutSilhouettes& bounded,
                                  double margin_px, VoxelGrid* grid);
 
