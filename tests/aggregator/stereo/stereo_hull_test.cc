@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <opencv2/core.hpp>
 
 #include "aggregator/stereo/lattice_ray.h"
@@ -24,6 +25,22 @@ CameraModel TopCamera(const std::string& id) {
   camera.R.setIdentity();
   camera.t = Eigen::Vector3d(0, 0, 1);
   return camera;
+}
+
+// A full 20^3 cube of 1 cm cells around the origin.
+VoxelGrid FullCube() {
+  VoxelGrid grid = VoxelGrid::Empty(Eigen::Vector3d::Constant(-0.1), 0.01, {20, 20, 20});
+  std::fill(grid.occupied.begin(), grid.occupied.end(), 1);
+  return grid;
+}
+
+// One view: `camera` with a 100x100 silhouette of the pixels in `rows` x `cols`.
+CutSilhouettes OneView(const CameraModel& camera, const cv::Range& rows, const cv::Range& cols) {
+  CutSilhouettes view;
+  view.cameras.push_back(camera);
+  view.masks.push_back(cv::Mat::zeros(100, 100, CV_8UC1));
+  view.masks[0](rows, cols).setTo(255);
+  return view;
 }
 
 // True if the ray through every pixel at least 1 px inside `mask` meets an occupied cell.
@@ -47,21 +64,13 @@ bool EveryInnerRayMeetsACell(const CameraModel& camera, const cv::Mat& mask,
 }
 
 TEST(BorderCarving, ClearsWhatABorderViewSeesAsBackgroundAndGivesBackWhatAnotherViewNeeds) {
-  // A full 20^3 cube of 1 cm cells around the origin.
-  VoxelGrid grid = VoxelGrid::Empty(Eigen::Vector3d::Constant(-0.1), 0.01, {20, 20, 20});
-  std::fill(grid.occupied.begin(), grid.occupied.end(), 1);
-
+  VoxelGrid grid = FullCube();
   // The border view: silhouette = the image's left half (it touches the left border).
-  CutSilhouettes border;
-  border.cameras.push_back(TopCamera("border"));
-  border.masks.push_back(cv::Mat::zeros(100, 100, CV_8UC1));
-  border.masks[0].colRange(0, 50).setTo(255);
+  const CutSilhouettes border = OneView(TopCamera("border"), cv::Range::all(), cv::Range(0, 50));
   // The bounded view, from the same place: a silhouette well right of the middle, which the
   // border view calls background (a shadow read as backdrop).
-  CutSilhouettes bounded;
-  bounded.cameras.push_back(TopCamera("bounded"));
-  bounded.masks.push_back(cv::Mat::zeros(100, 100, CV_8UC1));
-  bounded.masks[0](cv::Rect(70, 30, 20, 40)).setTo(255);
+  const CutSilhouettes bounded =
+      OneView(TopCamera("bounded"), cv::Range(30, 70), cv::Range(70, 90));
 
   const BorderCarving carving = CarveByBorderViews(border, bounded, 1.0, &grid);
   EXPECT_EQ(carving.carved, 20u * 20u * 10u);  // every cell right of x = 0
@@ -93,20 +102,13 @@ TEST(BorderCarving, GivesBackTheCellTheBorderViewSeesLeastFarOutside) {
   // A border view from the side, at (-1, 0, 0) looking along +x, whose silhouette is its bottom
   // five rows: it sees the whole cube as background, the higher a cell (world z, its image
   // rows), the nearer its silhouette.
-  VoxelGrid grid = VoxelGrid::Empty(Eigen::Vector3d::Constant(-0.1), 0.01, {20, 20, 20});
-  std::fill(grid.occupied.begin(), grid.occupied.end(), 1);
-  CutSilhouettes border;
+  VoxelGrid grid = FullCube();
   CameraModel side = TopCamera("side");
   side.R << 0, 1, 0, 0, 0, 1, 1, 0, 0;  // image x = world y, image y = world z
   side.t = -side.R * Eigen::Vector3d(-1, 0, 0);
-  border.cameras.push_back(side);
-  border.masks.push_back(cv::Mat::zeros(100, 100, CV_8UC1));
-  border.masks[0].rowRange(95, 100).setTo(255);
+  const CutSilhouettes border = OneView(side, cv::Range(95, 100), cv::Range::all());
   // The top view's silhouette, a square in the middle: its rays run up through the cube.
-  CutSilhouettes bounded;
-  bounded.cameras.push_back(TopCamera("top"));
-  bounded.masks.push_back(cv::Mat::zeros(100, 100, CV_8UC1));
-  bounded.masks[0](cv::Rect(40, 40, 20, 20)).setTo(255);
+  const CutSilhouettes bounded = OneView(TopCamera("top"), cv::Range(40, 60), cv::Range(40, 60));
   const BorderCarving carving = CarveByBorderViews(border, bounded, 1.0, &grid);
   EXPECT_EQ(carving.carved, grid.size());
   EXPECT_GT(carving.restored, 0u);
@@ -121,13 +123,10 @@ TEST(BorderCarving, GivesBackTheCellTheBorderViewSeesLeastFarOutside) {
 }
 
 TEST(BorderCarving, OutsideItsImageABorderViewCarvesNothing) {
-  VoxelGrid grid = VoxelGrid::Empty(Eigen::Vector3d::Constant(-0.1), 0.01, {20, 20, 20});
-  std::fill(grid.occupied.begin(), grid.occupied.end(), 1);
-  CutSilhouettes border;
-  border.cameras.push_back(TopCamera("border"));
-  border.cameras[0].K(0, 2) = -60;  // the cube now projects left of the image, mostly
-  border.masks.push_back(cv::Mat::zeros(100, 100, CV_8UC1));
-  border.masks[0].colRange(0, 1).setTo(255);
+  VoxelGrid grid = FullCube();
+  CameraModel camera = TopCamera("border");
+  camera.K(0, 2) = -60;  // the cube now projects left of the image, mostly
+  const CutSilhouettes border = OneView(camera, cv::Range::all(), cv::Range(0, 1));
   const BorderCarving carving = CarveByBorderViews(border, {}, 1.0, &grid);
   for (int k = 0; k < 20; ++k) {
     for (int j = 0; j < 20; ++j) {
