@@ -8,6 +8,7 @@
 #include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <utility>
 
 #include "aggregator/hulls/boundary_mesh.h"
@@ -30,6 +31,16 @@ double FootprintAtConesCentre(const CutSilhouettes& views) {
   for (const CameraModel& camera : views.cameras)
     sum += std::abs((camera.R * centre + camera.t).z()) / camera.K(0, 0);
   return sum / static_cast<double>(views.cameras.size());
+}
+
+// The pixel of `camera`'s image nearest to where it sees `point`, if there is one.
+std::optional<cv::Point> NearestPixel(const CameraModel& camera, const Eigen::Vector3d& point) {
+  const auto uv = camera.Project(point);
+  if (!uv) return std::nullopt;
+  const int x = static_cast<int>(std::floor(uv->x() + 0.5));
+  const int y = static_cast<int>(std::floor(uv->y() + 0.5));
+  if (x < 0 || y < 0 || x >= camera.width || y >= camera.height) return std::nullopt;
+  return cv::Point(x, y);
 }
 
 // The hull of `views` from contours reaching beyond the pixel centres (ComputeStereoHull):
@@ -83,12 +94,8 @@ BorderCarving CarveByBorderViews(const CutSilhouettes& border, const CutSilhouet
     // Only pixels a carved cell projects near can have lost their cover.
     cv::Mat near_carved = cv::Mat::zeros(camera.height, camera.width, CV_8UC1);
     for (size_t cell : carved) {
-      const auto uv = camera.Project(grid->CenterOf(cell));
-      if (!uv) continue;
-      const int x = static_cast<int>(std::floor(uv->x() + 0.5));
-      const int y = static_cast<int>(std::floor(uv->y() + 0.5));
-      if (x >= 0 && y >= 0 && x < camera.width && y < camera.height)
-        near_carved.at<uint8_t>(y, x) = 255;
+      if (const auto pixel = NearestPixel(camera, grid->CenterOf(cell)))
+        near_carved.at<uint8_t>(*pixel) = 255;
     }
     cv::dilate(near_carved, near_carved, cv::Mat::ones(5, 5, CV_8UC1));
     const cv::Mat inner = InnerSilhouettePixels(bounded.masks[v], margin_px);
@@ -109,30 +116,24 @@ BorderCarving CarveByBorderViews(const CutSilhouettes& border, const CutSilhouet
   }
   // Per ray, the one carved cell the border views see least far outside their silhouettes.
   std::vector<cv::Mat> outside(border.cameras.size());
-  for (size_t v = 0; v < outside.size(); ++v) {
-    cv::Mat background;
-    cv::compare(border.masks[v], 0, background, cv::CMP_EQ);
-    cv::distanceTransform(background, outside[v], cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  }
+  for (size_t v = 0; v < outside.size(); ++v)
+    cv::distanceTransform(border.masks[v] == 0, outside[v], cv::DIST_L2, cv::DIST_MASK_PRECISE);
   const auto outside_distance = [&](size_t cell) {
     float worst = 0;
     for (size_t v = 0; v < outside.size(); ++v) {
-      const auto uv = border.cameras[v].Project(grid->CenterOf(cell));
-      if (!uv) continue;
-      const int x = static_cast<int>(std::floor(uv->x() + 0.5));
-      const int y = static_cast<int>(std::floor(uv->y() + 0.5));
-      if (x >= 0 && y >= 0 && x < outside[v].cols && y < outside[v].rows)
-        worst = std::max(worst, outside[v].at<float>(y, x));
+      if (const auto pixel = NearestPixel(border.cameras[v], grid->CenterOf(cell)))
+        worst = std::max(worst, outside[v].at<float>(*pixel));
     }
     return worst;
   };
   for (const auto& [centre, direction] : rays) {
     bool covered = false;
-    size_t best = 0;
+    size_t best = 0, previous = grid->size();
     float best_distance = std::numeric_limits<float>::infinity();
     WalkRay(*grid, centre, direction, [&](double, size_t cell) {
       covered = covered || grid->occupied[cell] != 0;
-      if (covered || was_carved[cell] == 0) return;
+      if (covered || was_carved[cell] == 0 || cell == previous) return;
+      previous = cell;  // the walk's half-cell steps visit most cells twice in a row
       const float distance = outside_distance(cell);
       if (distance < best_distance) best_distance = distance, best = cell;
     });
