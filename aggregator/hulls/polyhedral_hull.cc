@@ -619,9 +619,18 @@ HullAssembly AssembleHull(const ConePlaneSet& set, const std::vector<FaceRegion>
   result.stats.cone_faces = set.Planes().size();
   result.stats.faces_with_cuts = with_cuts;
   MeshCheck check = CheckClosedManifold(result.mesh);
-  if (check.open_edges > 0 && !result.mesh.triangles.empty()) {
-    const GapFilling filling =
-        FillInPlaneGaps(assembler.MeshVertexPlanes(result.mesh.vertices.size()), result.mesh);
+  const bool open = check.open_edges > 0 && !result.mesh.triangles.empty();
+  if (open || options.keep_provenance) {
+    result.provenance.vertex_planes = assembler.MeshVertexPlanes(result.mesh.vertices.size());
+    if (options.keep_provenance) {
+      result.provenance.planes = set.Planes();
+      result.provenance.view_cameras.resize(set.Views());
+      for (size_t v = 0; v < set.Views(); ++v)
+        result.provenance.view_cameras[v] = static_cast<int>(v);
+    }
+  }
+  if (open) {
+    const GapFilling filling = FillInPlaneGaps(result.provenance.vertex_planes, result.mesh);
     result.stats.gaps_filled = filling.filled;
     result.stats.gap_area = filling.area;
     result.stats.widest_gap = filling.widest;
@@ -638,6 +647,7 @@ HullAssembly AssembleHull(const ConePlaneSet& set, const std::vector<FaceRegion>
     }
     check = CheckClosedManifold(result.mesh);
   }
+  if (!options.keep_provenance) result.provenance = HullProvenance{};
   assembly.closed = check.closed_manifold;
   if (!check.closed_manifold)
     result.reason = fmt::format("the polyhedral mesh is not a closed manifold: {}", check.reason);
@@ -794,6 +804,12 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
   box.max() += pad;
   result = ComputePolyhedralHull(hull_cameras, contours, box, options);
   result.stats.merged_cameras = merged_cameras;
+  if (options.keep_provenance && result.success) {
+    for (size_t v = 0; v < cameras.size(); ++v) {
+      if (coincident.same_as[v] == static_cast<int>(v))
+        result.provenance.view_cameras[slot[v]] = static_cast<int>(v);
+    }
+  }
   if (result.success) {
     if (const int v = LeavesExtension(hull_cameras, margins, result.mesh); v >= 0) {
       result = PolyhedralHullResult{};

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "aggregator/hulls/cone_plane_set.h"
 #include "aggregator/hulls/triangle_mesh.h"
 #include "aggregator/hulls/voxel_grid.h"
 #include "shared/geometry/camera_model.h"
@@ -54,12 +55,25 @@ struct PolyhedralHullStats {
   size_t merged_cameras = 0;
 };
 
+// Where the hull's vertices come from (PolyhedralHullOptions::keep_provenance): the cone
+// faces, each a contour edge of one view, and per mesh vertex the faces it lies on. A
+// viewing-edge end lies on two consecutive faces of one view (the ray of the contour vertex
+// between them) and one of another; a triple point on faces of three views. A mesh edge lies on
+// the faces its two vertices share: two consecutive faces of one view make it a viewing edge,
+// faces of two views a cone-intersection edge.
+struct HullProvenance {
+  std::vector<ConePlane> planes;  // every cone face; ConePlane::view indexes `view_cameras`
+  std::vector<int> view_cameras;  // per view, the index of its camera in the caller's list
+  std::vector<std::vector<int>> vertex_planes;  // per mesh vertex, its faces (sorted)
+};
+
 // The hull, or why there is none.
 struct PolyhedralHullResult {
   bool success = false;
   std::string reason;  // when !success
   TriangleMesh mesh;   // closed, oriented, manifold when success
   PolyhedralHullStats stats;
+  HullProvenance provenance;  // filled on success when asked for
 };
 
 // Settings of the computation.
@@ -106,6 +120,8 @@ struct PolyhedralHullOptions {
   // was lost, not a near-degenerate decision: the assembly falls back to the cuts, and the
   // hull is refused if that leaves one too.
   double widest_gap_fraction = 1e-3;
+  // Also return the hull's provenance (PolyhedralHullResult::provenance).
+  bool keep_provenance = false;
 };
 
 // True if any pixel of the outermost rows or columns of `mask` is silhouette: the subject

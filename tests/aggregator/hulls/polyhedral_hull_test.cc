@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -85,6 +86,42 @@ TEST(PolyhedralHullTest, FacesAsPolygonsAreTheSameSolidWithoutExtraPoints) {
     ASSERT_LT(nearest, 1e-6f);
   }
   EXPECT_EQ(CheckClosedManifold(polygons.mesh).euler_characteristic, 2);
+}
+
+// The provenance names each vertex by cone faces it lies on: three or more (two of one view and
+// one of another at a viewing-edge end, three views at a triple point), each plane through its
+// camera centre and its contour edge's two rays passing within 10 micrometres of the vertex
+// (whose coordinates are floats).
+TEST(PolyhedralHullTest, ProvenanceNamesTheFacesEachVertexLiesOn) {
+  const SphereScene scene = MakeSphereScene(0.0, true);
+  PolyhedralHullOptions options;
+  options.keep_provenance = true;
+  const PolyhedralHullResult hull = ComputePolyhedralHull(scene.cameras, scene.masks, options);
+  ASSERT_TRUE(hull.success) << hull.reason;
+  const HullProvenance& provenance = hull.provenance;
+  ASSERT_EQ(provenance.vertex_planes.size(), hull.mesh.vertices.size());
+  ASSERT_EQ(provenance.view_cameras.size(), scene.cameras.size());
+  EXPECT_EQ(provenance.planes.size(), hull.stats.cone_faces);
+  size_t viewing_edge_ends = 0;
+  for (size_t v = 0; v < hull.mesh.vertices.size(); ++v) {
+    const std::vector<int>& planes = provenance.vertex_planes[v];
+    ASSERT_GE(planes.size(), 3u) << "vertex " << v;
+    std::vector<int> views;
+    for (const int index : planes) {
+      const ConePlane& plane = provenance.planes[static_cast<size_t>(index)];
+      const CameraModel& camera = scene.cameras[static_cast<size_t>(
+          provenance.view_cameras[static_cast<size_t>(plane.view)])];
+      const Eigen::Vector3d normal =
+          (camera.R.transpose() * camera.PixelRay(plane.p).cross(camera.PixelRay(plane.q)))
+              .normalized();
+      const Eigen::Vector3d x = hull.mesh.vertices[v].cast<double>();
+      EXPECT_LT(std::abs(normal.dot(x - camera.Center())), 1e-5) << "vertex " << v;
+      views.push_back(plane.view);
+    }
+    std::sort(views.begin(), views.end());
+    viewing_edge_ends += std::adjacent_find(views.begin(), views.end()) != views.end() ? 1 : 0;
+  }
+  EXPECT_GT(viewing_edge_ends, hull.mesh.vertices.size() / 2);
 }
 
 // Cone faces and contours computed on several threads give exactly the mesh of one thread.
