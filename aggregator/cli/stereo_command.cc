@@ -28,6 +28,7 @@ struct StereoArgs {
   int silhouette_rounds = StereoGraphCutDefaults().silhouette_rounds;
   int threads = 0;
   std::string method = "uniform";
+  std::string constraints = "steps";
   int refine_iterations = SurfaceRefinementOptions{}.iterations;
   std::vector<std::string> leave_out;
 };
@@ -53,6 +54,12 @@ int RunStereo(const StereoArgs& args) {
     (adaptive ? config.adaptive.cut.lambda : config.graph_cut.lambda) = args.lambda;
   if (args.ballooning_given->count() > 0)
     (adaptive ? config.adaptive.cut.ballooning : config.graph_cut.ballooning) = args.ballooning;
+  config.constraints =
+      args.constraints == "exact" ? SilhouetteConstraints::kExact : SilhouetteConstraints::kSteps;
+  if (adaptive && config.constraints == SilhouetteConstraints::kExact)
+    throw InputError(
+        "--silhouette-constraints exact sets the uniform method's cut: use it with --method "
+        "uniform");
   if (args.finest_cells_given->count() > 0) {
     if (!adaptive)
       throw InputError("--finest-cells sets the adaptive mesh: use it with --method adaptive");
@@ -124,6 +131,13 @@ Command AddStereoCommand(CLI::App& app) {
                   "well-textured subjects, much slower on weakly textured ones: "
                   "docs/PERFORMANCE.md)")
       ->check(CLI::IsMember({"uniform", "adaptive"}))
+      ->capture_default_str();
+  cmd->add_option("--silhouette-constraints", args->constraints,
+                  "uniform method: steps: the cut, then a cell tied inside for every silhouette "
+                  "pixel it misses (thesis 7.4.2); exact: the 2-coloured hull's exact "
+                  "constraints, Formulation I (6.4-6.6; twice the graph, and where no "
+                  "photo-consistency pays for a rim it does not hold it: docs/PERFORMANCE.md)")
+      ->check(CLI::IsMember({"steps", "exact"}))
       ->capture_default_str();
   // Values are validated by the job (InputError, exit code 2, with the reason).
   args->lambda_given = cmd->add_option(

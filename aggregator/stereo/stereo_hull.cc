@@ -148,6 +148,7 @@ PolyhedralHullResult ComputeStereoHull(const CutSilhouettes& views, int threads,
                                        std::vector<std::string>* warnings) {
   PolyhedralHullOptions exact_options;
   exact_options.threads = threads;
+  exact_options.keep_provenance = true;  // for the exact silhouette constraints
   PolyhedralHullResult exact = ComputePolyhedralHull(views.cameras, views.masks, exact_options);
   if (exact.stats.merged_cameras > 0) {
     const CoincidentCameras coincident = FindCoincidentCameras(views.cameras);

@@ -167,8 +167,23 @@ bool UniformModel(const StereoJobConfig& config, const StereoViews& views,
                              border_views.cameras.end());
   constraints.masks.insert(constraints.masks.end(), border_views.masks.begin(),
                            border_views.masks.end());
-  const VolumetricGraphCutResult cut =
-      VolumetricGraphCut(votes.volume, hull_cells, config.graph_cut, &constraints, progress);
+  VolumetricGraphCutResult cut;
+  if (config.constraints == SilhouetteConstraints::kExact) {
+    ExactConstraintCutResult exact =
+        ExactConstraintCut(votes.volume, hull_cells, hull, hull_views, config.graph_cut, progress);
+    cut = std::move(exact.cut);
+    result->exact_constraints = exact.exact;
+    const HullColouringStats& c = exact.exact.colouring;
+    spdlog::info(
+        "exact silhouette constraints: {} viewing-edge segments ({} false), {} strip repairs, "
+        "{} green vertices, {} hidden-rim labels; surface layer {} cells, {} red, {} blue, {} "
+        "clashes; {} twisted cells ({:.1f} s colouring)",
+        c.segments, c.false_segments, c.connecting_curves, c.green_vertices, c.hidden_rim,
+        exact.exact.layer_cells, exact.exact.red_cells, exact.exact.blue_cells, exact.exact.clashes,
+        exact.exact.twisted_cells, exact.exact.seconds_colouring);
+  } else {
+    cut = VolumetricGraphCut(votes.volume, hull_cells, config.graph_cut, &constraints, progress);
+  }
   spdlog::info("{}", cut.stats.Brief());
   result->seconds.graph_cut = SecondsSince(stage);
   result->graph_cut = cut.stats;

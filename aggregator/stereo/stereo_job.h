@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "aggregator/stereo/adaptive_stereo.h"
+#include "aggregator/stereo/exact_constraint_cut.h"
 #include "aggregator/stereo/model_evaluation.h"
 #include "aggregator/stereo/photo_consistency.h"
 #include "aggregator/stereo/stereo_truth.h"
@@ -58,6 +59,13 @@ namespace silnet::aggregator {
 VolumetricGraphCutOptions StereoGraphCutDefaults();
 
 // The reconstruction after the visual hull.
+// How the uniform method's cut is held to the silhouettes.
+enum class SilhouetteConstraints {
+  kSteps,  // the baseline cut, then silhouette steps tying a cell per missed pixel (7.4.2):
+           // the default (docs/PERFORMANCE.md)
+  kExact,  // the exact constraints of Formulation I (6.4-6.6, exact_constraint_cut.h)
+};
+
 enum class StereoMethod {
   kUniform,   // votes on a uniform lattice and its volumetric graph cut (ch. 5-6): the default,
               // far cheaper on weakly textured real photographs (docs/PERFORMANCE.md)
@@ -78,6 +86,7 @@ struct StereoJobConfig {
   PhotoConsistencyOptions photo_consistency;  // threads set by `threads`
   VolumetricGraphCutOptions graph_cut = StereoGraphCutDefaults();
   StereoMethod method = StereoMethod::kUniform;
+  SilhouetteConstraints constraints = SilhouetteConstraints::kSteps;  // with kUniform
   AdaptiveStereoOptions adaptive;       // with kAdaptive (threads set by `threads`)
   SurfaceRefinementOptions refinement;  // of either method's cut; 0 iterations: none
   int threads = 0;                      // 0 = all cores
@@ -121,11 +130,12 @@ struct StereoJobResult {
   StereoMeshSummary hull, model;
   StereoMeshSummary cut;  // the graph cut's surface when the model is its refinement
   PhotoConsistencyStats photo_consistency;
-  std::array<int, 3> lattice_dims = {0, 0, 0};       // vote lattice cells along x, y, z
-  double cell_size = 0;                              // metres
-  VolumetricGraphCutStats graph_cut;                 // kUniform
-  std::optional<AdaptiveStereoStats> adaptive;       // kAdaptive
-  std::optional<SurfaceRefinementStats> refinement;  // when the cut was refined
+  std::array<int, 3> lattice_dims = {0, 0, 0};            // vote lattice cells along x, y, z
+  double cell_size = 0;                                   // metres
+  VolumetricGraphCutStats graph_cut;                      // kUniform
+  std::optional<ExactConstraintStats> exact_constraints;  // kUniform with kExact
+  std::optional<AdaptiveStereoStats> adaptive;            // kAdaptive
+  std::optional<SurfaceRefinementStats> refinement;       // when the cut was refined
   StereoStageTimes seconds;
   std::vector<std::string> view_pictures;  // views/<camera>.png, relative to the output folder
 };

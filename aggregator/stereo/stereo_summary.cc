@@ -136,12 +136,15 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
     fs << "method"
        << "adaptive tetrahedral graph cut (thesis 7.3-7.4.2)";
   } else {
+    const bool exact = config.constraints == SilhouetteConstraints::kExact;
     fs << "method"
-       << fmt::format("volumetric graph cut (thesis 5.4.1){}",
-                      config.graph_cut.silhouette_rounds > 0
-                          ? fmt::format(", up to {} silhouette steps (7.4.2)",
-                                        config.graph_cut.silhouette_rounds)
-                          : "");
+       << (exact ? std::string("volumetric graph cut with exact silhouette constraints, "
+                               "Formulation I (thesis 6.4-6.6)")
+                 : fmt::format("volumetric graph cut (thesis 5.4.1){}",
+                               config.graph_cut.silhouette_rounds > 0
+                                   ? fmt::format(", up to {} silhouette steps (7.4.2)",
+                                                 config.graph_cut.silhouette_rounds)
+                                   : ""));
   }
   if (config.method == StereoMethod::kAdaptive) {
     const AdaptiveTetMeshOptions& mesh = config.adaptive.mesh;
@@ -185,6 +188,19 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
      << "forced_cells" << AsInt(g.forced_cells) << "graph_bytes"
      << static_cast<double>(g.graph_bytes) << "lattice_bytes"
      << static_cast<double>(g.lattice_bytes) << "cut_cost" << g.cut_cost << "}";
+  if (result.exact_constraints) {
+    const ExactConstraintStats& e = *result.exact_constraints;
+    fs << "exact_constraints"
+       << "{"
+       << "segments" << AsInt(e.colouring.segments) << "false_segments"
+       << AsInt(e.colouring.false_segments) << "strip_repairs"
+       << AsInt(e.colouring.connecting_curves) << "unconnected_repairs"
+       << AsInt(e.colouring.unconnected) << "green_vertices" << AsInt(e.colouring.green_vertices)
+       << "hidden_rim_labels" << AsInt(e.colouring.hidden_rim) << "surface_layer_cells"
+       << AsInt(e.layer_cells) << "red_cells" << AsInt(e.red_cells) << "blue_cells"
+       << AsInt(e.blue_cells) << "clashes" << AsInt(e.clashes) << "twisted_cells"
+       << AsInt(e.twisted_cells) << "seconds_colouring" << e.seconds_colouring << "}";
+  }
   if (result.adaptive) WriteAdaptive(fs, *result.adaptive);
   const StereoStageTimes& s = result.seconds;
   fs << "seconds"

@@ -735,6 +735,35 @@ TEST(StereoCliTest, FinestCellsSetTheAdaptiveMeshAndAreInputErrorsOtherwise) {
   EXPECT_LE(finest, 3.0 * footprint + 1e-9);
 }
 
+// --silhouette-constraints exact cuts with Formulation I's doubled graph (thesis 6.4-6.6):
+// stereo.yaml names the method and the colouring's figures; the model is closed and, cut
+// inside the hull, covers no outer pixel. The option is an input error with the adaptive
+// method.
+TEST(StereoCliTest, ExactSilhouetteConstraintsCutTheDoubledGraph) {
+  const std::filesystem::path& input = SmallStills();
+  silnet::testing::TempDir work;
+  const auto run = [&](const std::vector<std::string>& extra) {
+    return RunStereoCommand(input, work, extra, std::chrono::seconds(300));
+  };
+  const auto [adaptive, adaptive_error] =
+      run({"--method", "adaptive", "--silhouette-constraints", "exact"});
+  EXPECT_EQ(adaptive, std::optional<int>(2)) << adaptive_error;
+  EXPECT_NE(adaptive_error.find("--method uniform"), std::string::npos) << adaptive_error;
+
+  const auto [exact, exact_error] = run({"--silhouette-constraints", "exact"});
+  ASSERT_EQ(exact, std::optional<int>(0)) << exact_error;
+  cv::FileStorage fs((work / "out" / "stereo.yaml").string(), cv::FileStorage::READ);
+  ASSERT_TRUE(fs.isOpened());
+  EXPECT_NE(static_cast<std::string>(fs["method"]).find("Formulation I"), std::string::npos);
+  const cv::FileNode constraints = fs["exact_constraints"];
+  EXPECT_GT(static_cast<int>(constraints["segments"]), 0);
+  EXPECT_GT(static_cast<int>(constraints["red_cells"]), 0);
+  EXPECT_GT(static_cast<int>(constraints["blue_cells"]), 0);
+  EXPECT_EQ(static_cast<int>(fs["model"]["covered_outer_pixels"]), 0);
+  EXPECT_TRUE(
+      CheckClosedManifold(ReadPlyMesh((work / "out" / "model.ply").string())).closed_manifold);
+}
+
 TEST(StereoCliTest, MissingCalibrationIsAnInputError) {
   const std::filesystem::path& input = SmallStills();
   silnet::testing::TempDir work;
