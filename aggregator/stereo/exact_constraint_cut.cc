@@ -47,21 +47,14 @@ ExactConstraintCutResult ExactConstraintCut(const VoteVolume& votes, const Voxel
   VolumetricGraphCutStats& stats = cut.stats;
   stats.lattice_cells = votes.size();
 
-  auto start = Clock::now();
-  const StereoLattice lattice =
-      ClassifyLattice(hull_cells, options.inner_offset_fraction, options.inner_offset_cells);
-  stats.seconds_distance = SecondsSince(start);
-  stats.hull_cells = lattice.hull_cells;
-  stats.pocket_cells = lattice.pocket_cells;
-  stats.max_depth_cells = lattice.max_depth_cells;
-  stats.inner_offset_cells = lattice.inner_offset_cells;
+  const StereoLattice lattice = ClassifyHullCells(hull_cells, options, stats);
   if (lattice.hull_cells == 0 || lattice.pocket_cells == 0) {
     cut.reason = lattice.hull_cells == 0 ? "the hull has no cell on the vote lattice"
                                          : "no hull cell is deeper than the inner offset";
     return result;
   }
 
-  start = Clock::now();
+  auto start = Clock::now();
   const HullColouring colouring =
       ColourHullVertices(hull.mesh, hull.provenance, views.cameras, views.masks,
                          VotedPhotoConsistency(votes, options.lambda));

@@ -174,6 +174,19 @@ std::string VolumetricGraphCutStats::Brief() const {
   return brief;
 }
 
+StereoLattice ClassifyHullCells(const VoxelGrid& hull, const VolumetricGraphCutOptions& options,
+                                VolumetricGraphCutStats& stats) {
+  const auto start = Clock::now();
+  StereoLattice lattice =
+      ClassifyLattice(hull, options.inner_offset_fraction, options.inner_offset_cells);
+  stats.seconds_distance = SecondsSince(start);
+  stats.hull_cells = lattice.hull_cells;
+  stats.pocket_cells = lattice.pocket_cells;
+  stats.max_depth_cells = lattice.max_depth_cells;
+  stats.inner_offset_cells = lattice.inner_offset_cells;
+  return lattice;
+}
+
 VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const VoxelGrid& hull,
                                             const VolumetricGraphCutOptions& options,
                                             const CutSilhouettes* silhouettes,
@@ -192,14 +205,7 @@ VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const Voxel
     return true;
   };
 
-  auto start = Clock::now();
-  StereoLattice lattice =
-      ClassifyLattice(hull, options.inner_offset_fraction, options.inner_offset_cells);
-  stats.seconds_distance = SecondsSince(start);
-  stats.hull_cells = lattice.hull_cells;
-  stats.pocket_cells = lattice.pocket_cells;
-  stats.max_depth_cells = lattice.max_depth_cells;
-  stats.inner_offset_cells = lattice.inner_offset_cells;
+  StereoLattice lattice = ClassifyHullCells(hull, options, stats);
   if (lattice.hull_cells == 0) {
     result.reason = "the hull has no cell on the vote lattice";
     return result;
@@ -229,7 +235,7 @@ VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const Voxel
   ExtractSurface(options, pinned.cells, result);
   for (int round = 0; round < options.silhouette_rounds; ++round) {
     if (cancelled()) return result;
-    start = Clock::now();
+    const auto start = Clock::now();
     const SilhouetteRepair repair =
         FindSilhouetteRepair(result.surface, hull, votes, silhouettes->cameras, silhouettes->masks,
                              options.silhouette_margin_px);

@@ -18,6 +18,7 @@
 
 #include "aggregator/hulls/triangle_mesh.h"
 #include "aggregator/hulls/voxel_grid.h"
+#include "aggregator/stereo/stereo_graph.h"
 #include "aggregator/stereo/surface_extraction.h"
 #include "aggregator/stereo/vote_volume.h"
 #include "shared/geometry/camera_model.h"
@@ -85,6 +86,11 @@ struct VolumetricGraphCutResult {
   TriangleMesh surface;  // closed, oriented, manifold (when options.extract_surface)
   VolumetricGraphCutStats stats;
 };
+
+// The lattice roles of `hull` (ClassifyLattice with the options' inner offset), with the time
+// it took, the hull and pocket cells and the depths recorded in `stats`.
+StereoLattice ClassifyHullCells(const VoxelGrid& hull, const VolumetricGraphCutOptions& options,
+                                VolumetricGraphCutStats& stats);
 
 // Runs the cut of `votes` inside `hull` (occupancy on exactly the votes' lattice; CheckError
 // otherwise, for invalid options, and for silhouette steps without `silhouettes`). An
