@@ -1,7 +1,9 @@
 #include "aggregator/stereo/hull_view_edges.h"
 
 #include <algorithm>
-#include <numeric>
+#include <iterator>
+
+#include "shared/util/disjoint_sets.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -12,24 +14,6 @@ std::vector<int> Common(const std::vector<int>& a, const std::vector<int>& b) {
   std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(both));
   return both;
 }
-
-// Union-find over indexes.
-class DisjointSets {
- public:
-  explicit DisjointSets(size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-  int Find(int x) {
-    while (parent_[static_cast<size_t>(x)] != x) {
-      parent_[static_cast<size_t>(x)] =
-          parent_[static_cast<size_t>(parent_[static_cast<size_t>(x)])];
-      x = parent_[static_cast<size_t>(x)];
-    }
-    return x;
-  }
-  void Join(int a, int b) { parent_[static_cast<size_t>(Find(a))] = Find(b); }
-
- private:
-  std::vector<int> parent_;
-};
 
 // The ray a mesh edge lies on: the face of `view`'s contour edge ending at the ray's vertex,
 // if the edge's shared planes hold two consecutive faces of one view; otherwise -1.
@@ -73,14 +57,14 @@ HullViewEdges FindHullViewEdges(const TriangleMesh& hull, const HullProvenance& 
   for (const auto& [key, pair] : edges.edge_triangles) {
     const int plane = edges.triangle_plane[static_cast<size_t>(pair[0])];
     if (pair[1] >= 0 && plane >= 0 && plane == edges.triangle_plane[static_cast<size_t>(pair[1])])
-      pieces.Join(pair[0], pair[1]);
+      pieces.Union(static_cast<size_t>(pair[0]), static_cast<size_t>(pair[1]));
   }
   edges.triangle_piece.assign(triangles, -1);
-  std::unordered_map<int, int> piece_number;
+  std::unordered_map<size_t, int> piece_number;
   for (size_t t = 0; t < triangles; ++t) {
     if (edges.triangle_plane[t] < 0) continue;
-    const auto [it, added] = piece_number.try_emplace(pieces.Find(static_cast<int>(t)),
-                                                      static_cast<int>(piece_number.size()));
+    const auto [it, added] =
+        piece_number.try_emplace(pieces.Find(t), static_cast<int>(piece_number.size()));
     edges.triangle_piece[t] = it->second;
   }
 
@@ -104,14 +88,14 @@ HullViewEdges FindHullViewEdges(const TriangleMesh& hull, const HullProvenance& 
     }
     DisjointSets chains(slot.size());
     for (const auto& e : list)
-      chains.Join(slot[e[0]], slot[e[1]]);
-    std::unordered_map<int, size_t> segment_of_chain;
+      chains.Union(static_cast<size_t>(slot[e[0]]), static_cast<size_t>(slot[e[1]]));
+    std::unordered_map<size_t, size_t> segment_of_chain;
     const size_t first = edges.segments.size();
     const auto distance = [&](int v) {
       return (hull.vertices[static_cast<size_t>(v)].cast<double>() - centre).norm();
     };
     for (const auto& e : list) {
-      const int chain = chains.Find(slot[e[0]]);
+      const size_t chain = chains.Find(static_cast<size_t>(slot[e[0]]));
       const auto [it, added] = segment_of_chain.try_emplace(chain, edges.segments.size());
       if (added) {
         ViewEdgeSegment segment;

@@ -145,10 +145,10 @@ BorderCarving CarveByBorderViews(const CutSilhouettes& border, const CutSilhouet
 }
 
 PolyhedralHullResult ComputeStereoHull(const CutSilhouettes& views, int threads,
-                                       std::vector<std::string>* warnings) {
+                                       std::vector<std::string>* warnings, bool keep_provenance) {
   PolyhedralHullOptions exact_options;
   exact_options.threads = threads;
-  exact_options.keep_provenance = true;  // for the exact silhouette constraints
+  exact_options.keep_provenance = keep_provenance;
   PolyhedralHullResult exact = ComputePolyhedralHull(views.cameras, views.masks, exact_options);
   if (exact.stats.merged_cameras > 0) {
     const CoincidentCameras coincident = FindCoincidentCameras(views.cameras);

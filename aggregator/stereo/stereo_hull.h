@@ -47,12 +47,14 @@ BorderCarving CarveByBorderViews(const CutSilhouettes& border, const CutSilhouet
 // and simulated stills with a view 1-3 px off).
 // Views taken from another's viewpoint (the Middlebury temple ring repeats its first) are named in
 // a warning too, their silhouettes intersected into one cone. Failure is data, as
-// ComputePolyhedralHull's.
+// ComputePolyhedralHull's. With `keep_provenance` the result carries the hull's provenance
+// (the exact silhouette constraints need it).
 inline constexpr double kWidenedHullMissedShare = 1e-3;
 inline constexpr double kWidenedCoverOffsetPx = 1.3;
 inline constexpr double kWidenedCoverSlackPx = 0.35;
 inline constexpr double kWidenedGrownOffsetPx = -0.3;
 PolyhedralHullResult ComputeStereoHull(const CutSilhouettes& views, int threads,
-                                       std::vector<std::string>* warnings);
+                                       std::vector<std::string>* warnings,
+                                       bool keep_provenance = false);
 
 }  // namespace silnet::aggregator

@@ -325,7 +325,9 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
     hull.reason = fmt::format("{} of {} silhouettes lie inside their image, at least 2 needed",
                               hull_cameras.size(), views.views.size());
   } else {
-    hull = ComputeStereoHull(hull_views, config.threads, &result.warnings);
+    hull = ComputeStereoHull(hull_views, config.threads, &result.warnings,
+                             config.method == StereoMethod::kUniform &&
+                                 config.constraints == SilhouetteConstraints::kExact);
   }
   result.seconds.hull = SecondsSince(stage);
   if (!hull.success || hull.mesh.triangles.empty()) {
