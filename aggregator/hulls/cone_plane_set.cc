@@ -109,17 +109,29 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
     if (!view_planes_[v].empty()) {
       rows.y0 = y_min;
       rows.step = kRowStepPx;
-      rows.rows.resize(static_cast<size_t>((y_max - y_min) / kRowStepPx) + 1);
+      const size_t count = static_cast<size_t>((y_max - y_min) / kRowStepPx) + 1;
+      const auto row = [&](double y) {
+        return std::clamp(static_cast<size_t>((y - rows.y0) / rows.step), size_t{0}, count - 1);
+      };
+      const auto row_span = [&](const ConePlane& plane) {
+        return std::pair(row(std::min(plane.p.y(), plane.q.y())),
+                         row(std::max(plane.p.y(), plane.q.y())));
+      };
+      rows.starts.assign(count + 1, 0);
+      for (int index : view_planes_[v]) {
+        const auto [a, b] = row_span(Plane(index));
+        for (size_t r = a; r <= b; ++r)
+          ++rows.starts[r + 1];
+      }
+      for (size_t r = 0; r < count; ++r)
+        rows.starts[r + 1] += rows.starts[r];
+      rows.edges.resize(rows.starts.back());
+      std::vector<uint32_t> fill(rows.starts.begin(), rows.starts.end() - 1);
       for (int index : view_planes_[v]) {
         const ConePlane& plane = Plane(index);
-        const auto row = [&](double y) {
-          return std::clamp(static_cast<size_t>((y - rows.y0) / rows.step), size_t{0},
-                            rows.rows.size() - 1);
-        };
-        const size_t a = row(std::min(plane.p.y(), plane.q.y()));
-        const size_t b = row(std::max(plane.p.y(), plane.q.y()));
+        const auto [a, b] = row_span(plane);
         for (size_t r = a; r <= b; ++r)
-          rows.rows[r].push_back(index);
+          rows.edges[fill[r]++] = {plane.p, plane.q};
       }
     }
     rows_.push_back(std::move(rows));
@@ -169,13 +181,13 @@ double ConePlaneSet::Angle(const PairIndex& pair, const Eigen::Vector3d& directi
 
 bool ConePlaneSet::Contains(int view, const Eigen::Vector2d& x) const {
   const RowIndex& rows = rows_[static_cast<size_t>(view)];
-  if (rows.rows.empty()) return false;
   const double r = (x.y() - rows.y0) / rows.step;
-  if (r < 0 || r >= static_cast<double>(rows.rows.size())) return false;
+  if (!(r >= 0) || r >= static_cast<double>(rows.Rows())) return false;
+  const auto row = static_cast<size_t>(r);
   bool inside = false;
-  for (int index : rows.rows[static_cast<size_t>(r)]) {
-    const Eigen::Vector2d& a = Plane(index).p;
-    const Eigen::Vector2d& b = Plane(index).q;
+  for (uint32_t k = rows.starts[row]; k < rows.starts[row + 1]; ++k) {
+    const Eigen::Vector2d& a = rows.edges[k][0];
+    const Eigen::Vector2d& b = rows.edges[k][1];
     if ((a.y() > x.y()) != (b.y() > x.y()) &&
         x.x() < (b.x() - a.x()) * (x.y() - a.y()) / (b.y() - a.y()) + a.x()) {
       inside = !inside;

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "aggregator/hulls/voxel_grid.h"
@@ -72,9 +73,15 @@ class ConePlaneSet {
     double longest = 0;         // largest hi - lo in `arcs`
     std::vector<int> wide;      // planes whose range could not be bounded
   };
+  // The contour edges whose y-range meets each row, their end points stored in the row so
+  // a point-in-silhouette test reads one contiguous run: row r's edges are
+  // edges[starts[r], starts[r + 1]).
   struct RowIndex {
     double y0 = 0, step = 1;
-    std::vector<std::vector<int>> rows;  // planes whose y-range meets each row
+    std::vector<uint32_t> starts;
+    std::vector<std::array<Eigen::Vector2d, 2>> edges;
+
+    size_t Rows() const { return starts.empty() ? 0 : starts.size() - 1; }
   };
   // The direction's angle about the pair's baseline, as an order-preserving pseudo-angle.
   double Angle(const PairIndex& pair, const Eigen::Vector3d& direction) const;
