@@ -161,10 +161,11 @@ std::vector<bool> ConnectingCurves(const HullGraph& graph, int view, const TrueS
                                    const CameraModel& camera, const cv::Mat& mask,
                                    const HullColouringOptions& options, HullColouringStats& stats) {
   std::vector<bool> rim(graph.hull.vertices.size(), false);
-  const bool any = std::any_of(chosen.breaks.begin(), chosen.breaks.end(), [&](const auto& b) {
-    return graph.edges.segments[static_cast<size_t>(b.first)].view == view;
-  });
-  if (!any) return rim;  // a whole strip: no distance map needed
+  const bool has_break =
+      std::any_of(chosen.breaks.begin(), chosen.breaks.end(), [&](const auto& b) {
+        return graph.edges.segments[static_cast<size_t>(b.first)].view == view;
+      });
+  if (!has_break) return rim;  // a whole strip: no distance map needed
   const cv::Mat distance = OutlineDistance(mask);
   // Off the inside of the strip: a viewing-edge end has no other edge than its strip's boundary.
   const auto allowed = [&](uint64_t key) { return !graph.InsideStrip(key, view); };
