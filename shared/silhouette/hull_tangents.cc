@@ -18,34 +18,41 @@ double OrientFrom(const Eigen::Vector3d& p, const Eigen::Vector2d& a, const Eige
 
 // The vertex that is extreme in the angular order seen from p: the maximum for sign = +1
 // (all other vertices clockwise from it), the minimum for sign = -1. Binary search over the
-// cyclic bitonic sequence of angles; see the case analysis below.
+// cyclic bitonic sequence of angles; see the case analysis below. A returned vertex is
+// locally extreme (both its edges fall back in the order: IsExtreme holds); -1 when the
+// search finds none (p on or inside the hull, collinear vertices). Indices stay in [0, n]
+// (n wraps to 0), and whether the lower bound's edge rises is carried along, so a step costs
+// one or two orientations.
 int ExtremeVertex(const std::vector<Eigen::Vector2d>& v, const Eigen::Vector3d& p, double sign) {
   const int n = static_cast<int>(v.size());
-  auto vertex = [&](int i) -> const Eigen::Vector2d& { return v[static_cast<size_t>(i % n)]; };
+  auto vertex = [&](int i) -> const Eigen::Vector2d& {
+    return v[static_cast<size_t>(i < n ? i : i - n)];
+  };
   // later(a, b): vertex b comes after vertex a in the order.
   auto later = [&](int a, int b) { return sign * OrientFrom(p, vertex(a), vertex(b)) > 0.0; };
   auto up = [&](int i) { return later(i, i + 1); };  // edge i moves forward in the order
-  if (!up(0) && up(n - 1)) return 0;
+  const bool up_first = up(0);
+  if (!up_first && up(n - 1)) return 0;
   int a = 0, b = n;
+  bool up_a = up_first;
   // Invariant: the extreme vertex lies strictly between a and b (so b - a >= 2).
   for (int guard = 0; guard < 64 && b - a >= 2; ++guard) {
     const int c = (a + b) / 2;
     const bool up_c = up(c);
     if (!up_c && up(c - 1)) return c;
-    if (up(a)) {
+    bool c_becomes_a;
+    if (up_a) {
       // a rises towards the extreme: it lies after a, before c unless c rises on the same run.
-      if (!up_c || later(c, a)) {
-        b = c;
-      } else {
-        a = c;
-      }
+      c_becomes_a = up_c && !later(c, a);
     } else {
       // a falls away from the extreme: it lies after c if c rises or falls on a's run.
-      if (up_c || later(c, a)) {
-        a = c;
-      } else {
-        b = c;
-      }
+      c_becomes_a = up_c || later(c, a);
+    }
+    if (c_becomes_a) {
+      a = c;
+      up_a = up_c;
+    } else {
+      b = c;
     }
   }
   return -1;
@@ -127,8 +134,8 @@ std::optional<PointTangents> TangentsFromPoint(const SilhouetteHull& hull,
   PointTangents t;
   t.right = ExtremeVertex(hull.vertices(), p, 1.0);
   t.left = ExtremeVertex(hull.vertices(), p, -1.0);
-  if (t.left != t.right && IsExtreme(hull.vertices(), p, 1.0, t.right) &&
-      IsExtreme(hull.vertices(), p, -1.0, t.left) &&
+  // A vertex ExtremeVertex returns is locally extreme (IsExtreme holds by construction).
+  if (t.left >= 0 && t.right >= 0 && t.left != t.right &&
       OrientFrom(p, hull.vertex(t.left), hull.vertex(t.right)) > 0.0) {
     return t;
   }
