@@ -121,7 +121,9 @@ void CameraRenderer::RenderPrimitives(const std::vector<Primitive>& world, doubl
     boxes.push_back(box);
     all = Union(all, box);
   }
-  // Depth test over each primitive's box: nearest hit along each pixel's ray.
+  // Depth test over each primitive's box: nearest hit along each pixel's ray. A mask alone
+  // needs only whether a ray hits anything: pixels already hit are not tested again.
+  const bool any_hit = colour == nullptr;
   const int box_width = std::max(0, all.x1 - all.x0);
   const int box_height = std::max(0, all.y1 - all.y0);
   std::vector<float> depth(static_cast<size_t>(box_width) * static_cast<size_t>(box_height),
@@ -132,10 +134,11 @@ void CameraRenderer::RenderPrimitives(const std::vector<Primitive>& world, doubl
     const PixelBox& box = boxes[i];
     for (int y = box.y0; y < box.y1; ++y) {
       for (int x = box.x0; x < box.x1; ++x) {
-        double t = 0.0;
-        if (!cam[i].Intersect(origin, Ray(x, y), &t)) continue;
         const size_t k = static_cast<size_t>(y - all.y0) * static_cast<size_t>(box_width) +
                          static_cast<size_t>(x - all.x0);
+        if (any_hit && owner[k] >= 0) continue;
+        double t = 0.0;
+        if (!cam[i].Intersect(origin, Ray(x, y), &t)) continue;
         if (t < depth[k]) {
           depth[k] = static_cast<float>(t);
           owner[k] = static_cast<int16_t>(i);
