@@ -7,42 +7,10 @@
 #include <cmath>
 
 #include "aggregator/pairwise/hypothesis_scoring.h"
+#include "aggregator/pairwise/symmetric_transfer_cost.h"
 
 namespace silnet::aggregator {
 namespace {
-
-template <typename T>
-using Vec3 = Eigen::Matrix<T, 3, 1>;
-
-// Signed distances d(x_j, F x_i) and d(x_i, F^T x_j) in the epipole / line homography /
-// offset parameterisation. The pencil bases follow the epipoles from fixed reference axes.
-struct SymmetricTransferResidual {
-  Eigen::Vector2d x_i, x_j_a, x_j_b;
-  double time_i;  // frame_i - frame_j: the fraction is time_i + offset
-  Eigen::Vector3d axis_i, axis_j;
-
-  template <typename T>
-  bool operator()(const T* ei, const T* ej, const T* h, const T* offset, T* residuals) const {
-    const Vec3<T> e_i(ei[0], ei[1], ei[2]), e_j(ej[0], ej[1], ej[2]);
-    const Vec3<T> u_i = axis_i.cast<T>().cross(e_i).normalized(), v_i = e_i.cross(u_i);
-    const Vec3<T> u_j = axis_j.cast<T>().cross(e_j).normalized(), v_j = e_j.cross(u_j);
-    const T f = T(time_i) + offset[0];
-    const Vec3<T> xj((T(1) - f) * x_j_a.x() + f * x_j_b.x(), (T(1) - f) * x_j_a.y() + f * x_j_b.y(),
-                     T(1));
-    const Vec3<T> xi(T(x_i.x()), T(x_i.y()), T(1));
-    // Epipolar line in j of x_i.
-    const Vec3<T> line_i = e_i.cross(xi);
-    const T c0 = line_i.dot(u_i), c1 = line_i.dot(v_i);
-    const Vec3<T> line_j = (h[0] * c0 + h[1] * c1) * u_j + (h[2] * c0 + h[3] * c1) * v_j;
-    residuals[0] = line_j.dot(xj) / sqrt(line_j.x() * line_j.x() + line_j.y() * line_j.y());
-    // Epipolar line in i of x_j, through the adjugate of h.
-    const Vec3<T> back_j = e_j.cross(xj);
-    const T d0 = back_j.dot(u_j), d1 = back_j.dot(v_j);
-    const Vec3<T> back_i = (h[3] * d0 - h[1] * d1) * u_i + (-h[2] * d0 + h[0] * d1) * v_i;
-    residuals[1] = back_i.dot(xi) / sqrt(back_i.x() * back_i.x() + back_i.y() * back_i.y());
-    return true;
-  }
-};
 
 Eigen::Vector3d ReferenceAxis(const Eigen::Vector3d& e) {
   Eigen::Index axis = 0;
@@ -186,10 +154,10 @@ RefinedModel RefineEpipolarModel(const EpipolarModel& start, const SilhouetteSeq
     }
     ceres::Problem problem;
     for (const TimedMatch& m : inliers) {
-      auto* cost = new ceres::AutoDiffCostFunction<SymmetricTransferResidual, 2, 3, 3, 4, 1>(
-          new SymmetricTransferResidual{
-              m.x_i, m.x_j_a, m.x_j_b,
-              static_cast<double>(m.frame_i) - static_cast<double>(m.frame_j), axis_i, axis_j});
+      auto* cost = new SymmetricTransferCost(
+          {m.x_i, m.x_j_a, m.x_j_b,
+           static_cast<double>(m.frame_i) - static_cast<double>(m.frame_j)},
+          axis_i, axis_j);
       problem.AddResidualBlock(cost, new ceres::HuberLoss(1.0), e_i.data(), e_j.data(), h.data(),
                                &offset);
     }
