@@ -33,6 +33,25 @@ bool MakeBasis(const Eigen::Vector3d& e, const Eigen::Vector3d& axis, Basis* b) 
   return true;
 }
 
+// MakeBasis, remembered per thread for the last epipole and axis: every residual of a solve
+// is evaluated at the same parameters, so each basis is built once per evaluation.
+bool CachedBasis(const Eigen::Vector3d& e, const Eigen::Vector3d& axis, int slot, Basis* b) {
+  struct Entry {
+    Eigen::Vector3d e = Eigen::Vector3d::Zero(), axis = Eigen::Vector3d::Zero();
+    Basis basis;
+    bool valid = false;
+  };
+  thread_local Entry cache[2];
+  Entry& entry = cache[slot];
+  if (!entry.valid || entry.e != e || entry.axis != axis) {
+    entry.valid = MakeBasis(e, axis, &entry.basis);
+    entry.e = e;
+    entry.axis = axis;
+  }
+  *b = entry.basis;
+  return entry.valid;
+}
+
 // The signed distance of point x to line l (homogeneous, x with w = 1) and its derivatives
 // from those of l and x.
 bool LineDistance(const Eigen::Vector3d& l, const Matrix3x11& dl, const Eigen::Vector3d& x,
@@ -55,7 +74,7 @@ bool SymmetricTransferCost::Evaluate(double const* const* parameters, double* re
   const double* h = parameters[2];
   const double f = observation_.time_i + parameters[3][0];
   Basis bi, bj;
-  if (!MakeBasis(e_i, axis_i_, &bi) || !MakeBasis(e_j, axis_j_, &bj)) return false;
+  if (!CachedBasis(e_i, axis_i_, 0, &bi) || !CachedBasis(e_j, axis_j_, 1, &bj)) return false;
   const TransferObservation& o = observation_;
   const Eigen::Vector3d xi = o.x_i.homogeneous();
   const Eigen::Vector3d xj = ((1.0 - f) * o.x_j_a + f * o.x_j_b).homogeneous();
