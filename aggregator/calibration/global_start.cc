@@ -11,6 +11,7 @@
 
 #include "aggregator/calibration/relative_pose.h"
 #include "aggregator/calibration/view_graph.h"
+#include "shared/geometry/epipolar.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -129,8 +130,7 @@ std::vector<Eigen::Vector3d> SolveCentres(const std::vector<bool>& present,
   for (size_t l = 0; l < links.size(); ++l) {
     const auto [i, j] = links[l];
     const Eigen::Vector3d& d = directions[l];
-    Eigen::Matrix3d cross;
-    cross << 0, -d.z(), d.y(), d.z(), 0, -d.x(), -d.y(), d.x(), 0;
+    const Eigen::Matrix3d cross = Skew(d);
     if (column[j] >= 0) A.block<3, 3>(3 * l, column[j]) += cross;
     if (column[i] >= 0) A.block<3, 3>(3 * l, column[i]) -= cross;
     if (column[j] >= 0) A.block<1, 3>(3 * links.size(), column[j]) += d.transpose();

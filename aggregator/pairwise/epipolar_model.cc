@@ -7,16 +7,6 @@
 #include "shared/geometry/epipolar.h"
 
 namespace silnet::aggregator {
-namespace {
-
-Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d s;
-  s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return s;
-}
-
-}  // namespace
-
 PencilBasis PencilBasis::For(const Eigen::Vector3d& point) {
   PencilBasis b;
   b.e = point.normalized();

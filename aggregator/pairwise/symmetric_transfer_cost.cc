@@ -3,18 +3,14 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "shared/geometry/epipolar.h"
+
 namespace silnet::aggregator {
 namespace {
 
 using Matrix3x11 = Eigen::Matrix<double, 3, 11>;
 using Row11 = Eigen::Matrix<double, 1, 11>;
 constexpr int kEi = 0, kEj = 3, kH = 6, kOffset = 10;  // columns of the stacked parameters
-
-Eigen::Matrix3d Cross(const Eigen::Vector3d& a) {  // Cross(a) * b = a x b
-  Eigen::Matrix3d m;
-  m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
-  return m;
-}
 
 // A pencil basis u = normalize(axis x e), v = e x u and its derivatives by e.
 struct Basis {
@@ -28,14 +24,15 @@ bool MakeBasis(const Eigen::Vector3d& e, const Eigen::Vector3d& axis, Basis* b) 
   if (!(norm > 0.0)) return false;
   b->u = w / norm;
   b->v = e.cross(b->u);
-  b->du = (Eigen::Matrix3d::Identity() - b->u * b->u.transpose()) / norm * Cross(axis);
-  b->dv = Cross(e) * b->du - Cross(b->u);
+  b->du = (Eigen::Matrix3d::Identity() - b->u * b->u.transpose()) / norm * Skew(axis);
+  b->dv = Skew(e) * b->du - Skew(b->u);
   return true;
 }
 
 // MakeBasis, remembered per thread for the last epipole and axis: every residual of a solve
-// is evaluated at the same parameters, so each basis is built once per evaluation.
-bool CachedBasis(const Eigen::Vector3d& e, const Eigen::Vector3d& axis, int slot, Basis* b) {
+// is evaluated at the same parameters, so each basis is built once per evaluation. nullptr
+// where MakeBasis fails; the basis stays valid until the thread's next call for `slot`.
+const Basis* CachedBasis(const Eigen::Vector3d& e, const Eigen::Vector3d& axis, int slot) {
   struct Entry {
     Eigen::Vector3d e = Eigen::Vector3d::Zero(), axis = Eigen::Vector3d::Zero();
     Basis basis;
@@ -48,8 +45,7 @@ bool CachedBasis(const Eigen::Vector3d& e, const Eigen::Vector3d& axis, int slot
     entry.e = e;
     entry.axis = axis;
   }
-  *b = entry.basis;
-  return entry.valid;
+  return entry.valid ? &entry.basis : nullptr;
 }
 
 // The signed distance of point x to line l (homogeneous, x with w = 1) and its derivatives
@@ -73,8 +69,10 @@ bool SymmetricTransferCost::Evaluate(double const* const* parameters, double* re
   const Eigen::Map<const Eigen::Vector3d> e_i(parameters[0]), e_j(parameters[1]);
   const double* h = parameters[2];
   const double f = observation_.time_i + parameters[3][0];
-  Basis bi, bj;
-  if (!CachedBasis(e_i, axis_i_, 0, &bi) || !CachedBasis(e_j, axis_j_, 1, &bj)) return false;
+  const Basis* basis_i = CachedBasis(e_i, axis_i_, 0);
+  const Basis* basis_j = CachedBasis(e_j, axis_j_, 1);
+  if (basis_i == nullptr || basis_j == nullptr) return false;
+  const Basis &bi = *basis_i, &bj = *basis_j;
   const TransferObservation& o = observation_;
   const Eigen::Vector3d xi = o.x_i.homogeneous();
   const Eigen::Vector3d xj = ((1.0 - f) * o.x_j_a + f * o.x_j_b).homogeneous();
@@ -83,7 +81,7 @@ bool SymmetricTransferCost::Evaluate(double const* const* parameters, double* re
 
   // Epipolar line in j of x_i: its pencil coordinates (c0, c1) in i mapped by h.
   const Eigen::Vector3d line_i = e_i.cross(xi);
-  const Eigen::Matrix3d dline_i = -Cross(xi);
+  const Eigen::Matrix3d dline_i = -Skew(xi);
   const double c0 = line_i.dot(bi.u), c1 = line_i.dot(bi.v);
   const Eigen::RowVector3d dc0 = bi.u.transpose() * dline_i + line_i.transpose() * bi.du;
   const Eigen::RowVector3d dc1 = bi.v.transpose() * dline_i + line_i.transpose() * bi.dv;
@@ -96,8 +94,8 @@ bool SymmetricTransferCost::Evaluate(double const* const* parameters, double* re
 
   // Epipolar line in i of x_j, through the adjugate of h.
   const Eigen::Vector3d back_j = e_j.cross(xj);
-  Matrix3x11 dback_j = Cross(e_j) * dxj;
-  dback_j.block<3, 3>(0, kEj) = -Cross(xj);
+  Matrix3x11 dback_j = Skew(e_j) * dxj;
+  dback_j.block<3, 3>(0, kEj) = -Skew(xj);
   const double d0 = back_j.dot(bj.u), d1 = back_j.dot(bj.v);
   Row11 dd0 = bj.u.transpose() * dback_j, dd1 = bj.v.transpose() * dback_j;
   dd0.segment<3>(kEj) += back_j.transpose() * bj.du;

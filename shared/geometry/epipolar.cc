@@ -6,18 +6,18 @@
 namespace silnet {
 namespace {
 
-Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d s;
-  s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return s;
-}
-
 Eigen::Vector3d NullVector(const Eigen::Matrix3d& m) {
   Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullV);
   return svd.matrixV().col(2);
 }
 
 }  // namespace
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d s;
+  s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return s;
+}
 
 Eigen::Matrix3d FundamentalFromCameras(const CameraModel& camera_i, const CameraModel& camera_j) {
   const Eigen::Matrix3d r = camera_j.R * camera_i.R.transpose();  // j_from_i

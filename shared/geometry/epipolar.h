@@ -20,6 +20,9 @@ Eigen::Vector3d EpipoleInFirstView(const Eigen::Matrix3d& f);
 // The epipole in camera j (F^T e_j = 0) as a homogeneous unit vector.
 Eigen::Vector3d EpipoleInSecondView(const Eigen::Matrix3d& f);
 
+// The cross-product matrix of v: Skew(v) * w = v x w.
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v);
+
 // Distance in pixels from point x to the homogeneous line l.
 double PointLineDistance(const Eigen::Vector3d& line, const Eigen::Vector2d& x);
 

@@ -9,6 +9,8 @@
 #include <array>
 #include <random>
 
+#include "shared/geometry/epipolar.h"
+
 namespace silnet::aggregator {
 namespace {
 
@@ -52,10 +54,8 @@ TEST(SymmetricTransferCost, ResidualsAreDistancesToTheEpipolarLinesOfF) {
 
     Eigen::Matrix2d h;
     h << p.h[0], p.h[1], p.h[2], p.h[3];
-    Eigen::Matrix3d cross_e_i;
-    cross_e_i << 0, -e_i.z(), e_i.y(), e_i.z(), 0, -e_i.x(), -e_i.y(), e_i.x(), 0;
     const Eigen::Matrix3d f =
-        PencilBasis(e_j, Axis(e_j)) * h * PencilBasis(e_i, Axis(e_i)).transpose() * cross_e_i;
+        PencilBasis(e_j, Axis(e_j)) * h * PencilBasis(e_i, Axis(e_i)).transpose() * Skew(e_i);
     const double blend = o.time_i + p.offset;
     const Eigen::Vector3d xi = o.x_i.homogeneous();
     const Eigen::Vector3d xj = ((1.0 - blend) * o.x_j_a + blend * o.x_j_b).homogeneous();
