@@ -1,7 +1,6 @@
 #include "aggregator/calibration/euclidean_bundle_adjustment.h"
 
 #include <ceres/ceres.h>
-#include <ceres/rotation.h>
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Geometry>
@@ -9,6 +8,7 @@
 #include <chrono>
 
 #include "aggregator/calibration/projective_geometry.h"
+#include "aggregator/calibration/reprojection_cost.h"
 #include "shared/util/statistics.h"
 
 namespace silnet::aggregator {
@@ -17,30 +17,6 @@ namespace {
 // Intrinsics block: fx, fy, cx, cy, k1, k2, p1, p2, k3. Pose block: angle-axis, t.
 constexpr int kIntrinsics = 9;
 constexpr int kPose = 6;
-
-// Pixel of a world point through a camera with OpenCV's distortion, minus the observation.
-struct ReprojectionResidual {
-  Eigen::Vector2d observed;
-  bool square_pixels;
-
-  template <typename T>
-  bool operator()(const T* k, const T* pose, const T* world, T* residual) const {
-    T x[3];
-    ceres::AngleAxisRotatePoint(pose, world, x);
-    x[0] += pose[3];
-    x[1] += pose[4];
-    x[2] += pose[5];
-    const T xn = x[0] / x[2], yn = x[1] / x[2];
-    const T r2 = xn * xn + yn * yn;
-    const T radial = T(1.0) + r2 * (k[4] + r2 * (k[5] + r2 * k[8]));
-    const T xd = xn * radial + T(2.0) * k[6] * xn * yn + k[7] * (r2 + T(2.0) * xn * xn);
-    const T yd = yn * radial + k[6] * (r2 + T(2.0) * yn * yn) + T(2.0) * k[7] * xn * yn;
-    const T fy = square_pixels ? k[0] : k[1];
-    residual[0] = k[0] * xd + k[2] - observed.x();
-    residual[1] = fy * yd + k[3] - observed.y();
-    return true;
-  }
-};
 
 // The principal point's deviation from the image centre, weighed as an observation:
 // weight = observation sigma / prior sigma.
@@ -180,8 +156,7 @@ std::unique_ptr<EuclideanProblem> BuildEuclideanProblem(MetricScene* scene,
     if (!scene->inlier[k]) continue;
     const TwoViewTrack& t = scene->tracks[k];
     for (const auto& [camera, x] : {std::pair{t.camera_a, t.x_a}, std::pair{t.camera_b, t.x_b}}) {
-      auto* cost = new ceres::AutoDiffCostFunction<ReprojectionResidual, 2, kIntrinsics, kPose, 3>(
-          new ReprojectionResidual{x, SquarePixels(model, *scene, camera)});
+      auto* cost = new ReprojectionCost(x, SquarePixels(model, *scene, camera));
       problem.AddResidualBlock(cost, loss, intrinsics[camera].data(), poses[camera].data(),
                                scene->points[k].data());
     }

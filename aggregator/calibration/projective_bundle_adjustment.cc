@@ -6,30 +6,11 @@
 #include <chrono>
 
 #include "aggregator/calibration/projective_geometry.h"
+#include "aggregator/calibration/projective_reprojection_cost.h"
 #include "shared/util/statistics.h"
 
 namespace silnet::aggregator {
 namespace {
-
-// Reprojection residual of a homogeneous point in a projective camera, in pixels: the
-// normalised-coordinate error divided by the normalisation's scale.
-struct ProjectiveResidual {
-  Eigen::Vector2d observed;  // normalised coordinates
-  double pixels_per_unit;
-
-  template <typename T>
-  bool operator()(const T* p, const T* x, T* residual) const {
-    // p is row-major 3x4.
-    T projected[3];
-    for (int r = 0; r < 3; ++r) {
-      projected[r] =
-          p[4 * r] * x[0] + p[4 * r + 1] * x[1] + p[4 * r + 2] * x[2] + p[4 * r + 3] * x[3];
-    }
-    residual[0] = (projected[0] / projected[2] - observed.x()) * pixels_per_unit;
-    residual[1] = (projected[1] / projected[2] - observed.y()) * pixels_per_unit;
-    return true;
-  }
-};
 
 Eigen::Vector2d Normalize(const Eigen::Matrix3d& n, const Eigen::Vector2d& x) {
   return (n * x.homogeneous()).hnormalized();
@@ -86,8 +67,7 @@ BundleSummary AdjustProjective(ProjectiveScene* scene, const BundleOptions& opti
     const TwoViewTrack& t = scene->tracks[k];
     for (const auto& [camera, x] : {std::pair{t.camera_a, t.x_a}, std::pair{t.camera_b, t.x_b}}) {
       const Eigen::Matrix3d& n = scene->normalization[camera];
-      auto* cost = new ceres::AutoDiffCostFunction<ProjectiveResidual, 2, 12, 4>(
-          new ProjectiveResidual{Normalize(n, x), 1.0 / n(0, 0)});
+      auto* cost = new ProjectiveReprojectionCost(Normalize(n, x), 1.0 / n(0, 0));
       problem.AddResidualBlock(cost, &loss, blocks[camera].data(), scene->points[k].data());
     }
     problem.SetManifold(scene->points[k].data(), &point_sphere);

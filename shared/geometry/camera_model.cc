@@ -16,7 +16,7 @@ Matrix34d CameraModel::ProjectionMatrix() const {
   return K * rt;
 }
 
-Eigen::Vector2d CameraModel::Distort(const Eigen::Vector2d& n) const {
+Eigen::Vector2d DistortNormalized(const Distortion& dist, const Eigen::Vector2d& n) {
   const double k1 = dist[0], k2 = dist[1], p1 = dist[2], p2 = dist[3], k3 = dist[4];
   const double x = n.x(), y = n.y();
   const double r2 = x * x + y * y;
@@ -25,22 +25,30 @@ Eigen::Vector2d CameraModel::Distort(const Eigen::Vector2d& n) const {
           y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y};
 }
 
+Eigen::Matrix2d DistortionJacobian(const Distortion& dist, const Eigen::Vector2d& n) {
+  const double k1 = dist[0], k2 = dist[1], p1 = dist[2], p2 = dist[3], k3 = dist[4];
+  const double x = n.x(), y = n.y();
+  const double r2 = x * x + y * y;
+  const double radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
+  const double d_radial = k1 + r2 * (2.0 * k2 + 3.0 * r2 * k3);  // d radial / d r2
+  Eigen::Matrix2d jacobian;
+  jacobian(0, 0) = radial + 2.0 * x * x * d_radial + 2.0 * p1 * y + 6.0 * p2 * x;
+  jacobian(0, 1) = 2.0 * x * y * d_radial + 2.0 * p1 * x + 2.0 * p2 * y;
+  jacobian(1, 0) = jacobian(0, 1);
+  jacobian(1, 1) = radial + 2.0 * y * y * d_radial + 6.0 * p1 * y + 2.0 * p2 * x;
+  return jacobian;
+}
+
+Eigen::Vector2d CameraModel::Distort(const Eigen::Vector2d& n) const {
+  return DistortNormalized(dist, n);
+}
+
 Eigen::Vector2d CameraModel::Undistort(const Eigen::Vector2d& distorted) const {
   if (!HasDistortion()) return distorted;
-  const double k1 = dist[0], k2 = dist[1], p1 = dist[2], p2 = dist[3], k3 = dist[4];
   Eigen::Vector2d n = distorted;
   for (int iteration = 0; iteration < 50; ++iteration) {
-    const double x = n.x(), y = n.y();
-    const double r2 = x * x + y * y;
-    const double radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
-    const double d_radial = k1 + r2 * (2.0 * k2 + 3.0 * r2 * k3);  // d radial / d r2
-    Eigen::Matrix2d jacobian;
-    jacobian(0, 0) = radial + 2.0 * x * x * d_radial + 2.0 * p1 * y + 6.0 * p2 * x;
-    jacobian(0, 1) = 2.0 * x * y * d_radial + 2.0 * p1 * x + 2.0 * p2 * y;
-    jacobian(1, 0) = 2.0 * x * y * d_radial + 2.0 * p1 * x + 2.0 * p2 * y;
-    jacobian(1, 1) = radial + 2.0 * y * y * d_radial + 6.0 * p1 * y + 2.0 * p2 * x;
     const Eigen::Vector2d residual = Distort(n) - distorted;
-    const Eigen::Vector2d step = jacobian.partialPivLu().solve(residual);
+    const Eigen::Vector2d step = DistortionJacobian(dist, n).partialPivLu().solve(residual);
     n -= step;
     if (step.squaredNorm() < 1e-28) break;
   }

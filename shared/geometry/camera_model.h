@@ -13,6 +13,11 @@ namespace silnet {
 using Distortion = Eigen::Matrix<double, 5, 1>;
 using Matrix34d = Eigen::Matrix<double, 3, 4>;
 
+// OpenCV's distortion of normalised coordinates (x/z, y/z) by coefficients `dist`.
+Eigen::Vector2d DistortNormalized(const Distortion& dist, const Eigen::Vector2d& normalized);
+// The derivative of DistortNormalized by the normalised coordinates, at `normalized`.
+Eigen::Matrix2d DistortionJacobian(const Distortion& dist, const Eigen::Vector2d& normalized);
+
 // A calibrated, clocked camera.
 struct CameraModel {
   std::string id;
