@@ -53,13 +53,8 @@ bool ReprojectionCost::Evaluate(double const* const* parameters, double* residua
     const double r2 = n.squaredNorm();
     const double xy2 = 2.0 * n.x() * n.y();
     j.setZero();
-    if (square_pixels_) {
-      j(0, 0) = d.x();
-      j(1, 0) = d.y();
-    } else {
-      j(0, 0) = d.x();
-      j(1, 1) = d.y();
-    }
+    j(0, 0) = d.x();
+    j(1, square_pixels_ ? 0 : 1) = d.y();  // with square pixels fy is fx
     j(0, 2) = 1.0;
     j(1, 3) = 1.0;
     // k1, k2, k3 scale the radial term; p1, p2 the tangential ones.
