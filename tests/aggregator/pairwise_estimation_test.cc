@@ -160,13 +160,13 @@ TEST(PairwiseEstimation, RingWithDroppedFramesAndSpuriousBlobs) {
     }
   };
   ExpectAcceptance(
-      EstimateAllPairs(Capture(sim::RigLayout::kRing, 3, 600, damage), 600, Unsynchronised()));
+      EstimateAllPairs(Capture(sim::RigLayout::kRing, 3, 400, damage), 400, Unsynchronised()));
 }
 
 TEST(PairwiseEstimation, RingFromSegmentedColourFrames) {
   // The node's median model on rendered colour frames (sensor noise, shadows, lighting
-  // changes): 600 frames after its 225-frame warm-up, which the estimator leaves out.
-  const int frames = 825;
+  // changes): 400 frames after its 225-frame warm-up, which the estimator leaves out.
+  const int frames = 625;
   ExpectAcceptance(EstimateAllPairs(
       testing::MakeSegmentedSimCapture(Network(sim::RigLayout::kRing, 5), Scene(5), frames), frames,
       Unsynchronised()));
