@@ -52,7 +52,7 @@ TEST(StillsOnCommand, EveryNodeSendsTheStillOfTheInstantWholeAndAMissingNodeIsRe
   const std::filesystem::path data = work / "data";
   testing::ChildProcess sim(kBin / "sim/silnet-sim",
                             {"generate", "-o", data.string(), "--cameras", std::to_string(kCameras),
-                             "--frames", "600", "--seed", "21"},
+                             "--frames", "480", "--seed", "21"},
                             work.path());
   ASSERT_EQ(sim.Wait(seconds(600)), std::optional<int>(0)) << sim.Stderr();
   // The calibration in use: the true cameras plus one whose node never runs.
