@@ -367,11 +367,6 @@ size_t InnerPixels(const StereoMeshSummary& mesh) {
   return inner;
 }
 
-// Runs the job on simulated 640x480 stills of 16 cameras in `layout` and checks the issue's
-// targets: accuracy <= 1.5 footprints, completeness within 2 footprints >= 97 %, exactly
-// silhouette-consistent (every silhouette pixel >= 1 px inside the outline covered, none
-// >= 1 px outside it), and in the concave region (the true surface the hull misses by > 2 fp)
-// far better than the hull.
 // Simulated 640x480 stills of 16 cameras in `layout`, made once per layout.
 const std::filesystem::path& SixteenViewStills(sim::RigLayout layout) {
   static std::map<sim::RigLayout, silnet::testing::TempDir> dirs;
@@ -384,10 +379,28 @@ const std::filesystem::path& SixteenViewStills(sim::RigLayout layout) {
   return it->second.path();
 }
 
-StereoJobResult RunSixteenViews(sim::RigLayout layout) {
-  silnet::testing::TempDir out;
-  const std::filesystem::path& input = SixteenViewStills(layout);
-  const StereoJobResult result = RunStereoJob(ConfigFor(input, out.path()), nullptr);
+// The job (uniform lattice) on the stills of SixteenViewStills(layout), run once per layout
+// and shared by the tests that check it and compare with it.
+const StereoJobResult& UniformSixteenViews(sim::RigLayout layout) {
+  static std::map<sim::RigLayout, StereoJobResult> results;
+  auto it = results.find(layout);
+  if (it == results.end()) {
+    silnet::testing::TempDir out;
+    it = results
+             .emplace(layout,
+                      RunStereoJob(ConfigFor(SixteenViewStills(layout), out.path()), nullptr))
+             .first;
+  }
+  return it->second;
+}
+
+// Runs the job on simulated 640x480 stills of 16 cameras in `layout` and checks the issue's
+// targets: accuracy <= 1.5 footprints, completeness within 2 footprints >= 97 %, exactly
+// silhouette-consistent (every silhouette pixel >= 1 px inside the outline covered, none
+// >= 1 px outside it), and in the concave region (the true surface the hull misses by > 2 fp)
+// far better than the hull.
+const StereoJobResult& RunSixteenViews(sim::RigLayout layout) {
+  const StereoJobResult& result = UniformSixteenViews(layout);
   EXPECT_TRUE(result.success) << result.reason;
   if (!result.success) return result;
   EXPECT_TRUE(result.model.evaluation && result.hull.evaluation);
@@ -471,7 +484,7 @@ TEST(StereoJobTest, AdaptiveMethodGivesAClosedSilhouetteConsistentModel) {
 // the local refinement then 0.67 fp, 97.8 / 99.5 % within 1 / 2 fp, concave region 1.56 fp
 // (docs/PERFORMANCE.md).
 TEST(StereoJobTest, SixteenViewRingMeetsTheAccuracyTargetsAndCoversItsSilhouettes) {
-  const StereoJobResult result = RunSixteenViews(sim::RigLayout::kRing);
+  const StereoJobResult& result = RunSixteenViews(sim::RigLayout::kRing);
   ASSERT_TRUE(result.success && result.model.evaluation && result.hull.evaluation);
   EXPECT_LT(result.model.evaluation->accuracy_footprints,
             0.6 * result.hull.evaluation->accuracy_footprints);
@@ -486,8 +499,8 @@ TEST(StereoJobTest, SixteenViewRingMeetsTheAccuracyTargetsAndCoversItsSilhouette
 // missed of ~210 k, 14 pieces, genus 1; uniform 0.67 fp, 97.8 / 99.5 %, 171 pieces, genus 2).
 TEST(StereoJobTest, SixteenViewRingAdaptiveMethodIsAtLeastAsGoodAsTheUniformLattice) {
   const std::filesystem::path& input = SixteenViewStills(sim::RigLayout::kRing);
-  silnet::testing::TempDir uniform_out, adaptive_out;
-  const StereoJobResult uniform = RunStereoJob(ConfigFor(input, uniform_out.path()), nullptr);
+  silnet::testing::TempDir adaptive_out;
+  const StereoJobResult& uniform = UniformSixteenViews(sim::RigLayout::kRing);
   StereoJobConfig config = ConfigFor(input, adaptive_out.path());
   config.method = StereoMethod::kAdaptive;
   const StereoJobResult adaptive = RunStereoJob(config, nullptr);
