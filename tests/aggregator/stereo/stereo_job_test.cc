@@ -394,12 +394,11 @@ const StereoJobResult& UniformSixteenViews(sim::RigLayout layout) {
   return it->second;
 }
 
-// Runs the job on simulated 640x480 stills of 16 cameras in `layout` and checks the issue's
-// targets: accuracy <= 1.5 footprints, completeness within 2 footprints >= 97 %, exactly
-// silhouette-consistent (every silhouette pixel >= 1 px inside the outline covered, none
-// >= 1 px outside it), and in the concave region (the true surface the hull misses by > 2 fp)
-// far better than the hull.
-const StereoJobResult& RunSixteenViews(sim::RigLayout layout) {
+// UniformSixteenViews(layout), checked against the targets: accuracy <= 1.5
+// footprints, completeness within 2 footprints >= 97 %, exactly silhouette-consistent (every
+// silhouette pixel >= 1 px inside the outline covered, none >= 1 px outside it), and in the
+// concave region (the true surface the hull misses by > 2 fp) far better than the hull.
+const StereoJobResult& CheckedSixteenViews(sim::RigLayout layout) {
   const StereoJobResult& result = UniformSixteenViews(layout);
   EXPECT_TRUE(result.success) << result.reason;
   if (!result.success) return result;
@@ -484,7 +483,7 @@ TEST(StereoJobTest, AdaptiveMethodGivesAClosedSilhouetteConsistentModel) {
 // the local refinement then 0.67 fp, 97.8 / 99.5 % within 1 / 2 fp, concave region 1.56 fp
 // (docs/PERFORMANCE.md).
 TEST(StereoJobTest, SixteenViewRingMeetsTheAccuracyTargetsAndCoversItsSilhouettes) {
-  const StereoJobResult& result = RunSixteenViews(sim::RigLayout::kRing);
+  const StereoJobResult& result = CheckedSixteenViews(sim::RigLayout::kRing);
   ASSERT_TRUE(result.success && result.model.evaluation && result.hull.evaluation);
   EXPECT_LT(result.model.evaluation->accuracy_footprints,
             0.6 * result.hull.evaluation->accuracy_footprints);
@@ -579,7 +578,7 @@ TEST(StereoJobTest, AdaptiveModelHasTheRightGenusWhereTheHullOfFewerViewsHasNot)
 // A dome sees the statue from above too: its hull is tight (0.82 fp) but still fills the
 // concavities, where the model is measured 2.0 fp against the hull's 5.7 fp.
 TEST(StereoJobTest, SixteenViewDomeMeetsTheAccuracyTargetsAndBeatsTheHullInConcavities) {
-  EXPECT_TRUE(RunSixteenViews(sim::RigLayout::kDome).success);
+  EXPECT_TRUE(CheckedSixteenViews(sim::RigLayout::kDome).success);
 }
 
 // A silhouette cut by the image border (as in three Middlebury dino views) does not bound the
