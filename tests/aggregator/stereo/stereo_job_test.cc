@@ -383,13 +383,10 @@ const std::filesystem::path& SixteenViewStills(sim::RigLayout layout) {
 // and shared by the tests that check it and compare with it.
 const StereoJobResult& UniformSixteenViews(sim::RigLayout layout) {
   static std::map<sim::RigLayout, StereoJobResult> results;
-  auto it = results.find(layout);
-  if (it == results.end()) {
+  const auto [it, made] = results.try_emplace(layout);
+  if (made) {
     silnet::testing::TempDir out;
-    it = results
-             .emplace(layout,
-                      RunStereoJob(ConfigFor(SixteenViewStills(layout), out.path()), nullptr))
-             .first;
+    it->second = RunStereoJob(ConfigFor(SixteenViewStills(layout), out.path()), nullptr);
   }
   return it->second;
 }
