@@ -100,12 +100,15 @@ CalibrateJobResult RunCalibrateJob(const CalibrateJobConfig& config, Progress* p
     pairs.input = config.input;
     pairs.output = config.output;
     pairs.options = config.pairwise;
-    if (!undistort && config.calibration.intrinsics.radial_terms > 0 &&
+    const bool distortion_in_silhouettes =
+        !undistort &&
+        (config.calibration.intrinsics.radial_terms > 0 || config.calibration.detect_distortion);
+    if (distortion_in_silhouettes &&
         pairs.options.pair.local_fit_px < PairwiseOptions::kDistortedLocalFitPx) {
-      // The distortion to be estimated is still in the silhouettes: no pinhole F fits them
-      // as closely as the local fits otherwise ask for.
+      // The distortion to be estimated (or looked for) may still be in the silhouettes: no
+      // pinhole F fits them as closely as the local fits otherwise ask for.
       pairs.options.pair.local_fit_px = PairwiseOptions::kDistortedLocalFitPx;
-      spdlog::info("silhouettes with lens distortion: local fits accept {:.1f} px",
+      spdlog::info("silhouettes that may carry lens distortion: local fits accept {:.1f} px",
                    pairs.options.pair.local_fit_px);
     }
     pairs.overlays = OverlaySelection::kNone;

@@ -68,6 +68,9 @@ class MetricRefinement {
   // Whether the adjustments that follow keep the principal points as they are.
   void HoldPrincipalPoints(bool hold) { options_.intrinsics.fix_principal_point = hold; }
 
+  // The radial terms the adjustments estimate (the options' or, once detected, k1 and k2).
+  int RadialTerms() const { return options_.intrinsics.radial_terms; }
+
   // Euclidean bundle adjustment on `graph`'s correspondences: first on a sample (the
   // cameras may still be far off), then on at most final_tracks_per_link of each link.
   void Adjust(const ViewGraph& graph, MetricScene* scene, const std::string& stage) {
@@ -84,6 +87,11 @@ class MetricRefinement {
     scene->Triangulate();
     IntrinsicsModel model = options_.intrinsics;
     model.fixed = options_.known_intrinsics;
+    if (options_.detect_distortion && model.radial_terms == 0 && !model.fixed &&
+        !distortion_started_) {
+      DetectDistortion(scene, model, stage);
+      return;
+    }
     const int radial = model.radial_terms;
     if (radial > 0 && !model.fixed && !distortion_started_) {
       model.radial_terms = 0;
@@ -96,6 +104,31 @@ class MetricRefinement {
       return;
     }
     Record(stage, AdjustEuclidean(scene, model, options_.bundle), "");
+  }
+
+  // The first adjustment without radial terms, then from its result with k1 and k2 (as when
+  // they are asked for); the second is kept, and the terms estimated from then on, if it fits
+  // clearly better.
+  void DetectDistortion(MetricScene* scene, const IntrinsicsModel& model,
+                        const std::string& stage) {
+    distortion_started_ = true;
+    const BundleSummary plain = AdjustEuclidean(scene, model, options_.bundle);
+    Record(stage, plain, "without distortion");
+    MetricScene radial_scene = *scene;
+    IntrinsicsModel radial_model = model;
+    radial_model.radial_terms = 2;
+    radial_scene.inlier.assign(radial_scene.tracks.size(), true);
+    const BundleSummary radial = AdjustEuclidean(&radial_scene, radial_model, options_.bundle);
+    const bool detected = radial.rms_px < (1.0 - options_.distortion_gain) * plain.rms_px;
+    const std::string verdict =
+        fmt::format("{}: k1, k2 fit the frontier points to {:.3f} px rms against {:.3f} px without",
+                    detected ? "detected" : "not detected", radial.rms_px, plain.rms_px);
+    spdlog::info("radial distortion {}", verdict);
+    out_->stages.push_back({"radial distortion", 0.0, radial.seconds, verdict});
+    if (!detected) return;
+    *scene = std::move(radial_scene);
+    options_.intrinsics.radial_terms = 2;
+    Record(stage + " with radial distortion", radial, "k1, k2");
   }
 
   void Record(const std::string& name, const BundleSummary& s, const std::string& detail) {
@@ -314,6 +347,8 @@ std::string CalibrationOptions::Validate() const {
     return "radial distortion terms must be 0, 1 or 2";
   if (!(rig_radius > 0.0)) return "the rig radius must be positive";
   if (rematch_rounds < 0) return "re-matching rounds must not be negative";
+  if (!(distortion_gain > 0.0 && distortion_gain < 1.0))
+    return "distortion_gain must lie between 0 and 1";
   if (!(free_principal_max_sigma_px >= 0.0))
     return "free_principal_max_sigma_px must not be negative";
   if (intrinsics.principal_point_sigma_px < 0.0 || !(intrinsics.observation_sigma_px > 0.0))
@@ -499,6 +534,7 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
   uncertainty_model.fixed = options.known_intrinsics;
   uncertainty_model.fix_principal_point = options.intrinsics.fix_principal_point;
   refine.Adjust(graph, &*scene, "Euclidean bundle adjustment");
+  uncertainty_model.radial_terms = refine.RadialTerms();
   if (progress) progress->Advance();
   for (size_t p = 0; p < pairs.size(); ++p) {
     const ViewLink* link = graph.Find(CameraIndex(cameras, pairs[p].camera_i),

@@ -82,8 +82,8 @@ void PairwiseArgs::AddTo(CLI::App* command) {
   command
       ->add_option("--local-fit", local_fit_px,
                    "pixels within which a hypothesis's local fit must explain its frontier "
-                   "points (3 suits silhouettes with lens distortion; calibrate --distortion "
-                   "without --intrinsics raises it to 3 itself)")
+                   "points (3 suits silhouettes with lens distortion; calibrate raises it to 3 "
+                   "itself unless --intrinsics or --distortion none)")
       ->capture_default_str();
   command->add_option("--mask-video", mask_video,
                       "read each camera's silhouettes from this video file in its folder "

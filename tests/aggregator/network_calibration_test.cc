@@ -109,9 +109,26 @@ void ExpectAcceptance(const NetworkCalibration& calibration,
 // Principal points up to 3 % of the image off centre, no prior on them.
 constexpr CaptureKey kRing8{8, sim::RigLayout::kRing, 0.0, 600, 1, 0.03};
 
+// The detail of the calibration's "radial distortion" stage (what detect_distortion decided),
+// or "none" without it.
+std::string DistortionVerdict(const NetworkCalibration& calibration) {
+  for (const CalibrationStage& stage : calibration.stages) {
+    if (stage.name == "radial distortion") return stage.detail;
+  }
+  return "none";
+}
+
+// The command line looks for lens distortion by default: lenses without any get none.
 TEST(NetworkCalibration, EightCameraRing) {
   const auto& estimated = Estimated(kRing8);
-  ExpectAcceptance(Calibrate(estimated, {}), estimated.capture.cameras);
+  CalibrationOptions options;
+  options.detect_distortion = true;
+  const NetworkCalibration calibration = Calibrate(estimated, options);
+  ExpectAcceptance(calibration, estimated.capture.cameras);
+  EXPECT_TRUE(DistortionVerdict(calibration).starts_with("not detected"))
+      << DistortionVerdict(calibration);
+  for (const CameraModel& c : calibration.cameras)
+    EXPECT_EQ(c.dist.norm(), 0.0) << c.id;
 }
 
 TEST(NetworkCalibration, EightCameraDome) {
@@ -134,9 +151,12 @@ TEST(NetworkCalibration, RecoversRadialDistortion) {
     largest_k1 = std::max(largest_k1, std::abs(c.dist[0]));
   ASSERT_GT(largest_k1, 0.2) << "the simulated rig should be strongly distorted";
 
+  // Found without being asked for (the command line's default), then estimated as k1, k2.
   CalibrationOptions options;
-  options.intrinsics.radial_terms = 2;
+  options.detect_distortion = true;
   const NetworkCalibration calibration = Calibrate(estimated, options);
+  EXPECT_TRUE(DistortionVerdict(calibration).starts_with("detected"))
+      << DistortionVerdict(calibration);
   ExpectAcceptance(calibration, truth);
   std::vector<bool> placed(truth.size(), true);
   const CalibrationErrors e = CompareWithGroundTruth(calibration.cameras, placed, truth);
