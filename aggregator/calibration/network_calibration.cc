@@ -124,7 +124,7 @@ class MetricRefinement {
         fmt::format("{}: k1, k2 fit the frontier points to {:.3f} px rms against {:.3f} px without",
                     detected ? "detected" : "not detected", radial.rms_px, plain.rms_px);
     spdlog::info("radial distortion {}", verdict);
-    out_->stages.push_back({"radial distortion", 0.0, radial.seconds, verdict});
+    out_->stages.push_back({"radial distortion", radial.rms_px, radial.seconds, verdict});
     if (!detected) return;
     *scene = std::move(radial_scene);
     options_.intrinsics.radial_terms = 2;

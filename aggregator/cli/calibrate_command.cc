@@ -28,20 +28,6 @@ struct CalibrateArgs {
   int domain = -1;
 };
 
-// The --distortion setting into `intrinsics` and `detect`.
-void ParseDistortion(const std::string& name, IntrinsicsModel* intrinsics, bool* detect) {
-  *detect = name == "auto";
-  if (name == "none" || name == "auto") {
-    intrinsics->radial_terms = 0;
-  } else if (name == "k1") {
-    intrinsics->radial_terms = 1;
-  } else if (name == "k1k2") {
-    intrinsics->radial_terms = 2;
-  } else {
-    throw InputError("--distortion must be auto, none, k1 or k1k2");
-  }
-}
-
 void PrintResult(const CalibrateJobResult& result, const std::string& out) {
   const NetworkCalibration& c = result.calibration;
   std::printf(
@@ -114,8 +100,7 @@ int RunCalibrate(const CalibrateArgs& args) {
   config.calibration.intrinsics.square_pixels = !args.free_aspect;
   config.calibration.intrinsics.fix_principal_point = args.fix_principal_point;
   config.calibration.intrinsics.principal_point_sigma_px = args.principal_point_sigma;
-  ParseDistortion(args.distortion, &config.calibration.intrinsics,
-                  &config.calibration.detect_distortion);
+  ApplyDistortionSetting(args.distortion, &config.calibration);
   config.calibration.rematch_rounds = args.rematch_rounds;
   config.calibration.rig_radius = args.rig_radius;
   config.calibration.bundle.threads =
@@ -157,10 +142,7 @@ Command AddCalibrateCommand(CLI::App& app) {
                   "steadies rings of cameras that all look at one point")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  cmd->add_option("--distortion", args->distortion,
-                  "radial distortion to estimate: none, k1, k1k2, or auto (k1 and k2 when they "
-                  "fit the silhouettes clearly better; ignored with --intrinsics)")
-      ->capture_default_str();
+  AddDistortionOption(cmd, &args->distortion);
   cmd->add_option("--rematch-rounds", args->rematch_rounds,
                   "rounds of frontier re-matching under the calibration")
       ->capture_default_str();

@@ -7,6 +7,27 @@
 #include "shared/util/check.h"
 
 namespace silnet::aggregator::cli {
+
+void AddDistortionOption(CLI::App* command, std::string* setting) {
+  command
+      ->add_option("--distortion", *setting,
+                   "radial distortion to estimate: none, k1, k1k2, or auto (k1 and k2 when they "
+                   "fit the silhouettes clearly better; ignored with --intrinsics)")
+      ->capture_default_str();
+}
+
+void ApplyDistortionSetting(const std::string& setting, CalibrationOptions* options) {
+  options->detect_distortion = setting == "auto";
+  if (setting == "none" || setting == "auto") {
+    options->intrinsics.radial_terms = 0;
+  } else if (setting == "k1") {
+    options->intrinsics.radial_terms = 1;
+  } else if (setting == "k1k2") {
+    options->intrinsics.radial_terms = 2;
+  } else {
+    throw InputError("--distortion must be auto, none, k1 or k1k2");
+  }
+}
 namespace {
 
 std::atomic<bool> g_stop{false};

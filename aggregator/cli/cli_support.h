@@ -1,6 +1,7 @@
 #pragma once
 // What the aggregator's subcommands share: signal handling (SIGINT/SIGTERM stop a running
-// job cleanly) and the pairwise estimation options, which `pairs` and `calibrate` both take.
+// job cleanly), the pairwise estimation options, which `pairs` and `calibrate` both take, and
+// the lens distortion setting of `calibrate` and `live`.
 
 #include <CLI/CLI.hpp>
 #include <atomic>
@@ -10,10 +11,17 @@
 #include <string>
 #include <thread>
 
+#include "aggregator/calibration/network_calibration.h"
 #include "aggregator/pairwise/pairwise_job.h"
 #include "shared/util/progress.h"
 
 namespace silnet::aggregator::cli {
+
+// Adds `--distortion` (auto, none, k1, k1k2; default auto) to `command`, into `setting`.
+void AddDistortionOption(CLI::App* command, std::string* setting);
+// Applies a `--distortion` setting to `options` (auto: radial terms looked for, see
+// CalibrationOptions::detect_distortion); throws InputError for an unknown one.
+void ApplyDistortionSetting(const std::string& setting, CalibrationOptions* options);
 
 // Routes SIGINT, SIGTERM, SIGHUP and SIGUSR1 to a watcher thread (other threads have them blocked)
 // and ignores SIGXFSZ (a file-size limit becomes a reported write error); call once before starting

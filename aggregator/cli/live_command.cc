@@ -23,7 +23,7 @@ struct LiveArgs {
   double idle_exit_s = 5.0, give_up_s = 60.0, rig_radius = 1.0;
   bool no_publish = false, voxels = false, overlays = false, serve = false, continuous = false;
   bool stills = false;
-  std::string stills_truth;
+  std::string stills_truth, distortion = "auto";
   double stills_timeout_s = 30.0, stills_at_s = -1.0;
   PairwiseArgs pairwise;
 };
@@ -45,6 +45,7 @@ int RunLive(const LiveArgs& args) {
   options.serve = args.serve;
   options.calibrate.pairwise = args.pairwise.Options();
   options.calibrate.calibration.rig_radius = args.rig_radius;
+  ApplyDistortionSetting(args.distortion, &options.calibrate.calibration);
   options.calibrate.calibration.bundle.threads =
       static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   options.motion.window_frames = args.motion_window;
@@ -100,6 +101,7 @@ Command AddLiveCommand(CLI::App& app) {
   cmd->add_option("--rig-radius", args->rig_radius,
                   "world scale: mean distance of the cameras from their centroid")
       ->capture_default_str();
+  AddDistortionOption(cmd, &args->distortion);
   cmd->add_option("--motion-window", args->motion_window,
                   "check for moved cameras every this many frames once calibrated (0: never)")
       ->capture_default_str();

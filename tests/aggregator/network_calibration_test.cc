@@ -65,7 +65,7 @@ const EstimatedCapture& Estimated(const CaptureKey& key) {
     PairwiseJobOptions options;
     options.pair.offset_min = -35;
     options.pair.offset_max = 35;
-    // As `calibrate --distortion` does while the distortion is still in the silhouettes.
+    // As `calibrate` does unless told the lenses are undistorted or known.
     if (key.distortion > 0) options.pair.local_fit_px = PairwiseOptions::kDistortedLocalFitPx;
     slot->pairs = EstimateAllPairs(slot->capture.sequences, options).pairs;
   }
