@@ -12,7 +12,7 @@ void AddDistortionOption(CLI::App* command, std::string* setting) {
   command
       ->add_option("--distortion", *setting,
                    "radial distortion to estimate: none, k1, k1k2, or auto (k1 and k2 when they "
-                   "fit the silhouettes clearly better; ignored with --intrinsics)")
+                   "fit the silhouettes clearly better; not where the intrinsics are given)")
       ->capture_default_str();
 }
 
@@ -28,6 +28,7 @@ void ApplyDistortionSetting(const std::string& setting, CalibrationOptions* opti
     throw InputError("--distortion must be auto, none, k1 or k1k2");
   }
 }
+
 namespace {
 
 std::atomic<bool> g_stop{false};
