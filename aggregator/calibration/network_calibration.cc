@@ -87,48 +87,40 @@ class MetricRefinement {
     scene->Triangulate();
     IntrinsicsModel model = options_.intrinsics;
     model.fixed = options_.known_intrinsics;
-    if (options_.detect_distortion && model.radial_terms == 0 && !model.fixed &&
-        !distortion_started_) {
-      DetectDistortion(scene, model, stage);
-      return;
-    }
-    const int radial = model.radial_terms;
-    if (radial > 0 && !model.fixed && !distortion_started_) {
-      model.radial_terms = 0;
-      Record(stage, AdjustEuclidean(scene, model, options_.bundle), "without distortion");
-      model.radial_terms = radial;
-      distortion_started_ = true;
-      scene->inlier.assign(scene->tracks.size(), true);
-      Record(stage + " with radial distortion", AdjustEuclidean(scene, model, options_.bundle),
-             fmt::format("k1{}", radial > 1 ? ", k2" : ""));
+    if (!model.fixed && !distortion_started_ &&
+        (model.radial_terms > 0 || options_.detect_distortion)) {
+      StartDistortion(scene, model, stage);
       return;
     }
     Record(stage, AdjustEuclidean(scene, model, options_.bundle), "");
   }
 
-  // The first adjustment without radial terms, then from its result with k1 and k2 (as when
-  // they are asked for); the second is kept, and the terms estimated from then on, if it fits
-  // clearly better.
-  void DetectDistortion(MetricScene* scene, const IntrinsicsModel& model,
-                        const std::string& stage) {
+  // The first adjustment without radial terms, then from its result with the terms asked for
+  // or, when they are to be detected, with k1 and k2, kept (and estimated from then on) only if
+  // they fit clearly better.
+  void StartDistortion(MetricScene* scene, IntrinsicsModel model, const std::string& stage) {
     distortion_started_ = true;
+    const int asked = model.radial_terms;
+    model.radial_terms = 0;
     const BundleSummary plain = AdjustEuclidean(scene, model, options_.bundle);
     Record(stage, plain, "without distortion");
+    model.radial_terms = asked > 0 ? asked : 2;
     MetricScene radial_scene = *scene;
-    IntrinsicsModel radial_model = model;
-    radial_model.radial_terms = 2;
     radial_scene.inlier.assign(radial_scene.tracks.size(), true);
-    const BundleSummary radial = AdjustEuclidean(&radial_scene, radial_model, options_.bundle);
-    const bool detected = radial.rms_px < (1.0 - options_.distortion_gain) * plain.rms_px;
-    const std::string verdict =
-        fmt::format("{}: k1, k2 fit the frontier points to {:.3f} px rms against {:.3f} px without",
-                    detected ? "detected" : "not detected", radial.rms_px, plain.rms_px);
-    spdlog::info("radial distortion {}", verdict);
-    out_->stages.push_back({"radial distortion", radial.rms_px, radial.seconds, verdict});
-    if (!detected) return;
+    const BundleSummary radial = AdjustEuclidean(&radial_scene, model, options_.bundle);
+    if (asked == 0) {
+      const bool detected = radial.rms_px < (1.0 - options_.distortion_gain) * plain.rms_px;
+      const std::string verdict = fmt::format(
+          "{}: k1, k2 fit the frontier points to {:.3f} px rms against {:.3f} px without",
+          detected ? "detected" : "not detected", radial.rms_px, plain.rms_px);
+      spdlog::info("radial distortion {}", verdict);
+      out_->stages.push_back({"radial distortion", radial.rms_px, radial.seconds, verdict});
+      if (!detected) return;
+      options_.intrinsics.radial_terms = model.radial_terms;
+    }
     *scene = std::move(radial_scene);
-    options_.intrinsics.radial_terms = 2;
-    Record(stage + " with radial distortion", radial, "k1, k2");
+    Record(stage + " with radial distortion", radial,
+           fmt::format("k1{}", model.radial_terms > 1 ? ", k2" : ""));
   }
 
   void Record(const std::string& name, const BundleSummary& s, const std::string& detail) {
