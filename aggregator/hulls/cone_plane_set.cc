@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "shared/util/parallel_for.h"
+
 namespace silnet::aggregator {
 namespace {
 
@@ -61,7 +63,7 @@ Eigen::Vector2d Perturbation(size_t view, size_t index, double amplitude) {
 
 ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
                            const std::vector<SilhouetteContours>& contours, const WorldBox& bounds,
-                           double perturbation_px) {
+                           double perturbation_px, int threads) {
   const size_t views = cameras.size();
   view_planes_.resize(views);
   for (size_t v = 0; v < views; ++v) {
@@ -138,13 +140,16 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
     octagons_.push_back(OctagonAround(planes_, view_planes_[v]));
   }
 
-  normals_.reserve(planes_.size());
+  rays_.reserve(planes_.size());
   for (const ConePlane& plane : planes_)
-    normals_.push_back(Ray(plane.view, plane.p).cross(Ray(plane.view, plane.q)));
+    rays_.push_back(Ray(plane.view, plane.p));
+  normals_.reserve(planes_.size());
+  for (size_t k = 0; k < planes_.size(); ++k)
+    normals_.push_back(rays_[k].cross(rays_[static_cast<size_t>(planes_[k].next)]));
 
   pairs_.resize(views * views);
   const Eigen::Vector3d centre = bounds.center();
-  for (size_t i = 0; i < views; ++i) {
+  ParallelFor(views, threads, [&](size_t i) {
     for (size_t j = 0; j < views; ++j) {
       if (i == j) continue;
       PairIndex& pair = pairs_[i * views + j];
@@ -155,9 +160,8 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
       pair.u1 = toward.normalized();
       pair.u2 = b.cross(pair.u1);
       for (int index : view_planes_[j]) {
-        const ConePlane& plane = Plane(index);
-        const double a = Angle(pair, Ray(static_cast<int>(j), plane.p));
-        const double c = Angle(pair, Ray(static_cast<int>(j), plane.q));
+        const double a = Angle(pair, rays_[static_cast<size_t>(index)]);
+        const double c = Angle(pair, rays_[static_cast<size_t>(Plane(index).next)]);
         if (std::abs(a - c) > kWidestArc) {
           pair.wide.push_back(index);
           continue;
@@ -168,7 +172,7 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
       std::sort(pair.arcs.begin(), pair.arcs.end(),
                 [](const EdgeArc& x, const EdgeArc& y) { return x.lo < y.lo; });
     }
-  }
+  });
 }
 
 Eigen::Vector3d ConePlaneSet::Ray(int view, const Eigen::Vector2d& pixel) const {

@@ -41,9 +41,10 @@ class ConePlaneSet {
   // exact coincidences of cameras and contours (a symmetric ring, where contour vertices lie
   // on the image row every camera centre projects to) would otherwise make four or more cone
   // faces meet at one point, which the faces, computed each on its own, decide differently.
+  // The indexes are built on `threads` threads; they do not depend on the number.
   ConePlaneSet(const std::vector<CameraModel>& cameras,
                const std::vector<SilhouetteContours>& contours, const WorldBox& bounds,
-               double perturbation_px = 0);
+               double perturbation_px = 0, int threads = 1);
 
   const std::vector<ConePlane>& Planes() const { return planes_; }
   const ConePlane& Plane(int index) const { return planes_[static_cast<size_t>(index)]; }
@@ -87,6 +88,7 @@ class ConePlaneSet {
   double Angle(const PairIndex& pair, const Eigen::Vector3d& direction) const;
 
   std::vector<ConePlane> planes_;
+  std::vector<Eigen::Vector3d> rays_;  // per plane: the world direction of its ray through p
   std::vector<Eigen::Vector3d> normals_;
   std::vector<std::vector<int>> view_planes_;
   std::vector<Matrix34d> projections_;

@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <unordered_map>
 
 #include "aggregator/hulls/coincident_cameras.h"
@@ -57,11 +59,34 @@ struct BoundaryCorner {
   Corner corner;
 };
 
+// A corner a face's first pass named: its name (the planes that meet there), where it lies in
+// the face's chart, and the hull vertex it becomes once the names are registered.
+struct NamedCorner {
+  VertexKey key;
+  double lambda, w;
+  int vertex = -1;
+};
+
 // A face after the first pass: its trapezoids and the corners on its slab boundaries,
-// sorted by lambda, then w.
+// sorted by lambda, then w (with cuts). Without cuts, the trapezoids' corners refer to `named`
+// (index >= 0) or are the face's cuts (-1, -2, ... in order) until the names are registered;
+// the second pass leaves the face's triangles, the positions of its sliver cuts (a triangle's
+// vertex -k - 1 is the k-th) and whether the face is on the hull.
 struct FaceCorners {
   std::vector<Trapezoid> trapezoids;
   std::vector<BoundaryCorner> boundary;
+  std::vector<NamedCorner> named;
+  int cuts = 0, cut_base = 0;  // the face's cuts, and how many the faces before it have
+  std::vector<std::array<int32_t, 3>> triangles;
+  std::vector<Eigen::Vector3d> slivers;
+  bool on_hull = false;
+};
+
+// Buffers the second pass of a face reuses (one set per thread).
+struct PolygonScratch {
+  std::vector<std::vector<LoopPoint>> loops;
+  std::vector<std::vector<Eigen::Vector2d>> chart_loops;
+  std::vector<int> loop_vertices;
 };
 
 // A point of a face's polygon in its chart.
@@ -170,89 +195,46 @@ class HullAssembler {
     ids_.reserve(8 * set.Planes().size());
   }
 
-  // Pass one: names the corners of every trapezoid of `region`. The sweep's cuts (corners
-  // where no planes meet) get hull vertices only if `name_cuts`, which the assembly with cuts
-  // needs; otherwise a negative number unique to them.
-  void AddCorners(const FaceRegion& region, bool name_cuts) {
+  // Pass one with the cuts: names the corners of every trapezoid of `region`, the sweep's cuts
+  // (corners where no planes meet) included, and keeps the corners on its slab boundaries.
+  void AddCorners(const FaceRegion& region) {
     FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
     const ConePlane& plane = set_.Plane(region.plane);
-    // Corners on the boundary between two slabs are named once: the next slab's a-side
-    // corners are looked up among the previous slab's b-side ones.
-    previous_.clear();
-    for (size_t s = 0; s < region.slabs.size(); ++s) {
-      const ChartSlab& slab = region.slabs[s];
-      current_.clear();
-      const auto corner = [&](int line, double lambda, int boundary) {
-        const ChartLine& chart_line = region.lines[static_cast<size_t>(line)];
-        Corner c;
-        c.w = chart_line.WAt(lambda);
-        c.vertex = VertexFor(region, plane, chart_line.plane, lambda, c.w, boundary, name_cuts);
-        if (name_cuts) face.boundary.push_back({lambda, c});
-        return c;
-      };
-      const auto a_corner = [&](int line) {
-        for (const auto& [known, c] : previous_) {
-          if (known == line) return c;  // slabs are contiguous: this is the same point
-        }
-        return corner(line, slab.lambda_a, static_cast<int>(s));
-      };
-      for (int i = slab.first; i < slab.first + slab.count; ++i) {
-        const auto [lo, hi] = region.intervals[static_cast<size_t>(i)];
-        Trapezoid t;
-        t.lo = lo;
-        t.hi = hi;
-        t.a = slab.lambda_a;
-        t.b = slab.lambda_b;
-        t.bottom_a = a_corner(lo);
-        t.top_a = a_corner(hi);
-        t.bottom_b = corner(lo, t.b, static_cast<int>(s) + 1);
-        t.top_b = corner(hi, t.b, static_cast<int>(s) + 1);
-        current_.emplace_back(lo, t.bottom_b);
-        current_.emplace_back(hi, t.top_b);
-        face.trapezoids.push_back(t);
-      }
-      previous_.swap(current_);
-    }
+    WalkTrapezoids(region, face, [&](int line, double lambda, double w, int boundary) {
+      const std::optional<VertexKey> named = CornerKey(region, plane, line, lambda, w);
+      const VertexKey key = named ? *named : VertexKey{region.plane, line, -boundary - 1};
+      const auto [vertex, added] = Vertex(key, !named, region, lambda, w);
+      if (added && !named) cuts_.emplace_back(EdgeKey(region.plane, line), vertex);
+      const Corner c{w, vertex};
+      face.boundary.push_back({lambda, c});
+      return c;
+    });
     std::sort(face.boundary.begin(), face.boundary.end(),
               [](const BoundaryCorner& x, const BoundaryCorner& y) {
                 return x.lambda < y.lambda || (x.lambda == y.lambda && x.corner.w < y.corner.w);
               });
   }
 
-  // Ends pass one: indexes the cuts the faces made on their edges.
+  // Ends pass one with the cuts: indexes the cuts the faces made on their edges.
   void IndexCuts() { std::sort(cuts_.begin(), cuts_.end()); }
 
-  // Pass two, the hull's own vertices only: triangulates the polygon `region` really is (its
-  // trapezoids' boundary without the sweep's cuts). False when that boundary is not closed
-  // loops of named vertices or does not triangulate (a near-degenerate face); the caller then
-  // assembles every face with the cuts instead, in a new assembler (AddCorners naming the
-  // cuts, IndexCuts, AddTriangles).
-  bool AddFacePolygon(const FaceRegion& region) {
-    const FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
-    if (face.trapezoids.empty()) return true;
-    if (!FaceBoundaryLoops(face.trapezoids, region.w_max - region.w_min, loops_)) return false;
-    if (loops_.empty()) return true;  // a sliver without area
-    const double w_scale = 1 / (region.w_max - region.w_min);
-    chart_loops_.resize(loops_.size());
-    loop_vertices_.clear();
-    for (size_t k = 0; k < loops_.size(); ++k) {
-      chart_loops_[k].clear();
-      for (const LoopPoint& point : loops_[k]) {
-        chart_loops_[k].emplace_back(point.lambda, (point.w - region.w_min) * w_scale);
-        loop_vertices_.push_back(point.vertex >= 0 ? point.vertex : SliverVertex(region, point));
-      }
-    }
-    const LoopTriangulation triangulation = TriangulateLoops(chart_loops_);
-    if (!triangulation.success) return false;
-    ++stats_.hull_faces;
-    const bool reverse = !ChartIsOutward(region, set_.Plane(region.plane));
-    for (const auto& t : triangulation.triangles) {
-      const auto vertex = [&](int k) {
-        return loop_vertices_[static_cast<size_t>(t[static_cast<size_t>(k)])];
-      };
-      triangles_.push_back(reverse ? std::array<int32_t, 3>{vertex(0), vertex(2), vertex(1)}
-                                   : std::array<int32_t, 3>{vertex(0), vertex(1), vertex(2)});
-    }
+  // Both passes with the hull's own vertices only, over `regions` (every face, in plane
+  // order), each face's own work on `threads` threads (the mesh does not depend on their
+  // number): every face triangulated as the polygon it really is (its trapezoids' boundary
+  // without the sweep's cuts). False when some face's boundary is not closed loops of named
+  // vertices or does not triangulate (a near-degenerate face); the caller then assembles every
+  // face with the cuts instead, in a new assembler (AddCorners, IndexCuts, AddTriangles).
+  bool AddFacePolygons(const std::vector<FaceRegion>& regions, int threads) {
+    ParallelFor(regions.size(), threads, [&](size_t p) { NameCorners(regions[p]); });
+    for (const FaceRegion& region : regions)
+      RegisterNames(region);
+    std::atomic<bool> triangulated{true};
+    ParallelFor(regions.size(), threads, [&](size_t p) {
+      if (!TriangulateFace(regions[p])) triangulated = false;
+    });
+    if (!triangulated) return false;
+    for (const FaceRegion& region : regions)
+      AppendFace(region);
     return true;
   }
 
@@ -322,45 +304,166 @@ class HullAssembler {
   const PolyhedralHullStats& Stats() const { return stats_; }
 
  private:
-  // A position for a cut the face's boundary keeps (at a sliver of a slab, face_boundary_loops.h):
-  // on this face and one of its lines, so welding merges it with the named vertex it all but
-  // coincides with.
-  int SliverVertex(const FaceRegion& region, const LoopPoint& point) {
-    positions_.push_back(region.Point(point.lambda, point.w));
-    planes_.push_back({region.plane, region.plane, -1});
-    return static_cast<int>(positions_.size()) - 1;
+  // Walks `region`'s trapezoids slab by slab into face.trapezoids, each corner from
+  // name(plane of its line, lambda, w, slab boundary). Corners on the boundary between two slabs
+  // are named once: the next slab's a-side corners are the previous slab's b-side ones on the same
+  // line.
+  template <typename Name>
+  static void WalkTrapezoids(const FaceRegion& region, FaceCorners& face, Name name) {
+    thread_local std::vector<std::pair<int, Corner>> previous, current;
+    previous.clear();
+    for (size_t s = 0; s < region.slabs.size(); ++s) {
+      const ChartSlab& slab = region.slabs[s];
+      current.clear();
+      const auto corner = [&](int line, double lambda, int boundary) {
+        const ChartLine& chart_line = region.lines[static_cast<size_t>(line)];
+        return name(chart_line.plane, lambda, chart_line.WAt(lambda), boundary);
+      };
+      const auto a_corner = [&](int line) {
+        for (const auto& [known, c] : previous) {
+          if (known == line) return c;  // slabs are contiguous: this is the same point
+        }
+        return corner(line, slab.lambda_a, static_cast<int>(s));
+      };
+      for (int i = slab.first; i < slab.first + slab.count; ++i) {
+        const auto [lo, hi] = region.intervals[static_cast<size_t>(i)];
+        Trapezoid t;
+        t.lo = lo;
+        t.hi = hi;
+        t.a = slab.lambda_a;
+        t.b = slab.lambda_b;
+        t.bottom_a = a_corner(lo);
+        t.top_a = a_corner(hi);
+        t.bottom_b = corner(lo, t.b, static_cast<int>(s) + 1);
+        t.top_b = corner(hi, t.b, static_cast<int>(s) + 1);
+        current.emplace_back(lo, t.bottom_b);
+        current.emplace_back(hi, t.top_b);
+        face.trapezoids.push_back(t);
+      }
+      previous.swap(current);
+    }
   }
 
-  // The vertex of a corner on line `line` at `lambda` (slab boundary `boundary`); for a cut
-  // not to be named, the next unused negative number.
-  int VertexFor(const FaceRegion& region, const ConePlane& plane, int line, double lambda, double w,
-                int boundary, bool name_cuts) {
-    std::optional<VertexKey> key;
-    if (lambda == 0) key = Triple(region.plane, plane.prev, line);
-    if (lambda == 1) key = Triple(region.plane, plane.next, line);
-    if (!key) {
-      const auto first =
-          std::lower_bound(region.events.begin(), region.events.end(), lambda,
-                           [](const ChartEvent& e, double value) { return e.lambda < value; });
-      for (auto e = first; e != region.events.end() && e->lambda == lambda; ++e) {
-        if (e->second >= 0 && (e->first == line || e->second == line) &&
-            std::abs(e->w - w) <= kEventTolerance * (region.w_max - region.w_min)) {
-          key = Triple(region.plane, e->first, e->second);
-          break;
-        }
+  // The name of the corner at (lambda, w) of `region` on the line of plane `line`: the three
+  // planes that meet there (the face's, the line's, and the ray's or the event's), or none for
+  // a cut.
+  static std::optional<VertexKey> CornerKey(const FaceRegion& region, const ConePlane& plane,
+                                            int line, double lambda, double w) {
+    if (lambda == 0) return Triple(region.plane, plane.prev, line);
+    if (lambda == 1) return Triple(region.plane, plane.next, line);
+    const auto first =
+        std::lower_bound(region.events.begin(), region.events.end(), lambda,
+                         [](const ChartEvent& e, double value) { return e.lambda < value; });
+    for (auto e = first; e != region.events.end() && e->lambda == lambda; ++e) {
+      if (e->second >= 0 && (e->first == line || e->second == line) &&
+          std::abs(e->w - w) <= kEventTolerance * (region.w_max - region.w_min)) {
+        return Triple(region.plane, e->first, e->second);
       }
     }
-    const bool cut = !key;
-    if (cut && !name_cuts) return --last_unnamed_cut_;
-    if (cut) key = VertexKey{region.plane, line, -boundary - 1};
-    const auto [it, inserted] = ids_.try_emplace(*key, static_cast<int>(positions_.size()));
+    return std::nullopt;
+  }
+
+  // The hull vertex named `key` (a cut, on the face and its line only, if `cut`), placed at
+  // (lambda, w) of `region`'s chart if the name is new; whether it is.
+  std::pair<int, bool> Vertex(const VertexKey& key, bool cut, const FaceRegion& region,
+                              double lambda, double w) {
+    const auto [it, inserted] = ids_.try_emplace(key, static_cast<int>(positions_.size()));
     if (inserted) {
       positions_.push_back(region.Point(lambda, w));
-      planes_.push_back({key->a, key->b, cut ? -1 : key->c});
-      Count(*key);
-      if (cut) cuts_.emplace_back(EdgeKey(region.plane, line), it->second);
+      planes_.push_back({key.a, key.b, cut ? -1 : key.c});
+      Count(key);
     }
-    return it->second;
+    return {it->second, inserted};
+  }
+
+  // Pass one without the cuts, on any thread: the face's trapezoids, their corners referring
+  // to face.named or numbered as the face's cuts (FaceCorners).
+  void NameCorners(const FaceRegion& region) {
+    FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
+    const ConePlane& plane = set_.Plane(region.plane);
+    WalkTrapezoids(region, face, [&](int line, double lambda, double w, int) {
+      const std::optional<VertexKey> key = CornerKey(region, plane, line, lambda, w);
+      if (!key) return Corner{w, -++face.cuts};
+      face.named.push_back({*key, lambda, w});
+      return Corner{w, static_cast<int>(face.named.size()) - 1};
+    });
+  }
+
+  // Ends pass one without the cuts, faces in plane order: each named corner gets its hull
+  // vertex (placed by the first face that names it), the face's cuts numbers after the
+  // previous faces'.
+  void RegisterNames(const FaceRegion& region) {
+    FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
+    for (NamedCorner& corner : face.named)
+      corner.vertex = Vertex(corner.key, false, region, corner.lambda, corner.w).first;
+    face.cut_base = registered_cuts_;
+    registered_cuts_ += face.cuts;
+  }
+
+  // Pass two without the cuts, on any thread: the face's corners made hull vertices (a cut a
+  // negative number no other corner has), the polygon the face really is triangulated into
+  // face.triangles. False as AddFacePolygons.
+  bool TriangulateFace(const FaceRegion& region) {
+    FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
+    if (face.trapezoids.empty()) return true;
+    for (Trapezoid& t : face.trapezoids) {
+      for (Corner* c : {&t.bottom_a, &t.bottom_b, &t.top_a, &t.top_b}) {
+        c->vertex = c->vertex >= 0 ? face.named[static_cast<size_t>(c->vertex)].vertex
+                                   : c->vertex - 1 - face.cut_base;
+      }
+    }
+    thread_local PolygonScratch scratch;
+    if (!FaceBoundaryLoops(face.trapezoids, region.w_max - region.w_min, scratch.loops))
+      return false;
+    if (scratch.loops.empty()) return true;  // a sliver without area
+    const double w_scale = 1 / (region.w_max - region.w_min);
+    scratch.chart_loops.resize(scratch.loops.size());
+    scratch.loop_vertices.clear();
+    for (size_t k = 0; k < scratch.loops.size(); ++k) {
+      scratch.chart_loops[k].clear();
+      for (const LoopPoint& point : scratch.loops[k]) {
+        scratch.chart_loops[k].emplace_back(point.lambda, (point.w - region.w_min) * w_scale);
+        if (point.vertex >= 0) {
+          scratch.loop_vertices.push_back(point.vertex);
+          continue;
+        }
+        // A cut the boundary keeps (at a sliver of a slab, face_boundary_loops.h): on this
+        // face and one of its lines, so welding merges it with the named vertex it all but
+        // coincides with.
+        face.slivers.push_back(region.Point(point.lambda, point.w));
+        scratch.loop_vertices.push_back(-static_cast<int>(face.slivers.size()));
+      }
+    }
+    const LoopTriangulation triangulation = TriangulateLoops(scratch.chart_loops);
+    if (!triangulation.success) return false;
+    face.on_hull = true;
+    const bool reverse = !ChartIsOutward(region, set_.Plane(region.plane));
+    for (const auto& t : triangulation.triangles) {
+      const auto vertex = [&](int k) {
+        return scratch.loop_vertices[static_cast<size_t>(t[static_cast<size_t>(k)])];
+      };
+      face.triangles.push_back(reverse ? std::array<int32_t, 3>{vertex(0), vertex(2), vertex(1)}
+                                       : std::array<int32_t, 3>{vertex(0), vertex(1), vertex(2)});
+    }
+    return true;
+  }
+
+  // Ends pass two without the cuts, faces in plane order: the face's sliver cuts and
+  // triangles added to the mesh.
+  void AppendFace(const FaceRegion& region) {
+    FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
+    const int base = static_cast<int>(positions_.size());
+    for (const Eigen::Vector3d& x : face.slivers) {
+      positions_.push_back(x);
+      planes_.push_back({region.plane, region.plane, -1});
+    }
+    for (std::array<int32_t, 3> t : face.triangles) {
+      for (int32_t& v : t) {
+        if (v < 0) v = base - v - 1;
+      }
+      triangles_.push_back(t);
+    }
+    if (face.on_hull) ++stats_.hull_faces;
   }
 
   void Count(const VertexKey& key) {
@@ -483,15 +586,11 @@ class HullAssembler {
   std::vector<std::pair<uint64_t, int>> cuts_;  // (EdgeKey(face, line), vertex), sorted
   std::vector<ChartVertex> polygon_, edge_;     // scratch of AddTriangles
   std::vector<Corner> side_;
-  std::vector<std::pair<int, Corner>> previous_, current_;  // scratch of AddCorners
-  int last_unnamed_cut_ = -1;
+  int registered_cuts_ = 0;  // the faces' cuts RegisterNames numbered
   mutable std::vector<std::pair<double, ChartVertex>> ordered_cuts_;  // scratch of EdgeCuts
   std::vector<Eigen::Vector3d> positions_;
-  std::vector<std::array<int, 3>> planes_;     // per position: the cone planes it lies on, or -1
-  std::vector<std::vector<LoopPoint>> loops_;  // scratch of AddFacePolygon
-  std::vector<std::vector<Eigen::Vector2d>> chart_loops_;
-  std::vector<int> loop_vertices_;
-  std::vector<int> mesh_index_;  // per position: its vertex in the last Mesh()
+  std::vector<std::array<int, 3>> planes_;  // per position: the cone planes it lies on, or -1
+  std::vector<int> mesh_index_;             // per position: its vertex in the last Mesh()
   std::vector<std::array<int32_t, 3>> triangles_;
   PolyhedralHullStats stats_;
 };
@@ -600,19 +699,15 @@ HullAssembly AssembleHull(const ConePlaneSet& set, const std::vector<FaceRegion>
   HullAssembly assembly;
   PolyhedralHullResult& result = assembly.result;
   HullAssembler assembler(set);
-  for (const FaceRegion& region : regions)
-    assembler.AddCorners(region, with_cuts);
   if (with_cuts) {
+    for (const FaceRegion& region : regions)
+      assembler.AddCorners(region);
     assembler.IndexCuts();
     for (const FaceRegion& region : regions)
       assembler.AddTriangles(region);
-  } else {
-    for (const FaceRegion& region : regions) {
-      if (!assembler.AddFacePolygon(region)) {
-        result.reason = "a face's boundary is not closed loops";
-        return assembly;
-      }
-    }
+  } else if (!assembler.AddFacePolygons(regions, options.threads)) {
+    result.reason = "a face's boundary is not closed loops";
+    return assembly;
   }
   result.mesh = assembler.Mesh(kWeldTolerance * bounds.diagonal().norm());
   result.stats = assembler.Stats();
@@ -707,7 +802,7 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
                                 cameras[static_cast<size_t>(v)].id);
     return result;
   }
-  const ConePlaneSet set(cameras, contours, bounds);
+  const ConePlaneSet set(cameras, contours, bounds, 0, options.threads);
   std::vector<FaceRegion> regions;
   if (!ComputeFaceRegions(cameras, set, bounds, options.threads, &regions, &result.reason))
     return result;
@@ -715,7 +810,8 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     HullAssembly assembly = AssembleHull(set, regions, bounds, options, false);
     if (assembly.closed) return Finished(std::move(assembly.result));
     if (options.contour_perturbation_px > 0) {
-      const ConePlaneSet perturbed(cameras, contours, bounds, options.contour_perturbation_px);
+      const ConePlaneSet perturbed(cameras, contours, bounds, options.contour_perturbation_px,
+                                   options.threads);
       std::vector<FaceRegion> perturbed_regions;
       std::string reason;
       if (ComputeFaceRegions(cameras, perturbed, bounds, options.threads, &perturbed_regions,

@@ -102,8 +102,9 @@ struct PolyhedralHullOptions {
   // retry: on data the plain contours close, perturbed ones need more gaps filled (where
   // coincidences the faces agree on become near-coincidences they may not).
   double contour_perturbation_px = 1e-3;
-  // Threads for the contours and the cone faces (0 = every core). The mesh is the same for
-  // any count. Callers that build several hulls at once (a sequence of frames) keep 1.
+  // Threads for the contours, the cone planes' indexes, the cone faces and the faces'
+  // polygons (0 = every core); the mesh is built in plane order and is the same for any count.
+  // Callers that build several hulls at once (a sequence of frames) keep 1.
   int threads = 1;
   // Faces as polygons of the hull's own vertices; false: straight to the assembly with the
   // sweeps' cuts that the hull otherwise falls back to (for tests and comparisons).
