@@ -124,7 +124,8 @@ TEST(PolyhedralHullTest, ProvenanceNamesTheFacesEachVertexLiesOn) {
   EXPECT_GT(viewing_edge_ends, hull.mesh.vertices.size() / 2);
 }
 
-// Cone faces and contours computed on several threads give exactly the mesh of one thread.
+// Contours, cone planes, cone faces and the faces' polygons computed on several threads give
+// exactly the mesh of one thread.
 TEST(PolyhedralHullTest, ThreadsGiveTheSameMesh) {
   const SphereScene scene = MakeSphereScene(0.0, true);
   ExpectSameHullOnThreads(scene.cameras, scene.masks, 3);
