@@ -96,8 +96,18 @@ bool AddViewLines(const ConePlaneSet& set, int face_view, int view, const FaceRe
 
   candidates.clear();
   set.CandidateEdges(face_view, view, region.d_p, region.d_q, candidates);
+  // The candidates share the chart's lambda range in epipolar angle; most lie beyond its
+  // bottom or top, which are tested first.
+  const auto beyond_depth_range = [&](const ConePlane& plane) {
+    for (const int s : {kBottom, kTop}) {
+      const Eigen::Vector3d& side = mapping.sides[static_cast<size_t>(s)];
+      if (side.dot(plane.p.homogeneous()) < 0 && side.dot(plane.q.homogeneous()) < 0) return true;
+    }
+    return false;
+  };
   for (int index : candidates) {
     const ConePlane& plane = set.Plane(index);
+    if (beyond_depth_range(plane)) continue;
     double t0 = 0, t1 = 1;
     int side0 = kVertex, side1 = kVertex;
     bool rejected = false;
@@ -164,6 +174,7 @@ struct FaceScratch {
   std::vector<ViewBuild> builds;  // per view
   std::vector<double> narrowing;  // per view: its share of the last face's chart w-range
   std::vector<int> view_order;    // the other views, most narrowing first
+  std::vector<int> bounding;      // the other views with lines in the chart (the rest hold it)
   int failed_view = -1;           // the camera a face's box is not in front of
 };
 
@@ -248,8 +259,7 @@ bool InsideOtherViews(const FaceRegion& region, FaceScratch& scratch, int skip_a
   };
   const int first = scratch.last_rejecting;
   if (first >= 0 && outside(first)) return false;
-  for (size_t v = 0; v < scratch.view_lines.size(); ++v) {
-    const int view = static_cast<int>(v);
+  for (const int view : scratch.bounding) {
     if (view != first && outside(view)) {
       scratch.last_rejecting = view;
       return false;
@@ -426,6 +436,14 @@ FaceRegion RegionOfFace(const std::vector<CameraModel>& cameras, const ConePlane
       break;
   }
 
+  // A view without lines holds the whole chart (one whose corner lies outside too left the
+  // face empty): only the others bound the region.
+  scratch.bounding.clear();
+  for (size_t v = 0; v < cameras.size(); ++v) {
+    const LineRange lines = scratch.view_lines[v];
+    if (static_cast<int>(v) != plane.view && lines.end > lines.begin)
+      scratch.bounding.push_back(static_cast<int>(v));
+  }
   // A contour vertex of another view changes the region only if it lies inside the rest.
   std::erase_if(region.events, [&](const ChartEvent& event) {
     return !InsideOtherViews(region, scratch, set.Plane(event.first).view, plane.view, event.lambda,
@@ -443,8 +461,8 @@ FaceRegion RegionOfFace(const std::vector<CameraModel>& cameras, const ConePlane
     const double a = cuts[k], b = cuts[k + 1];
     const double middle = 0.5 * (a + b);
     bounds.assign({{region.w_min, -1}, {region.w_max, -1}});
-    for (size_t v = 0; v < cameras.size() && !bounds.empty(); ++v) {
-      if (static_cast<int>(v) == plane.view) continue;
+    for (size_t i = 0; i < scratch.bounding.size() && !bounds.empty(); ++i) {
+      const auto v = static_cast<size_t>(scratch.bounding[i]);
       ViewIntervals(region, scratch.view_lines[v], scratch.corner_inside[v] != 0, middle,
                     scratch.crossings, scratch.view_bounds);
       IntersectIntervals(bounds, scratch.view_bounds, scratch.merged);
