@@ -11,7 +11,9 @@
 namespace silnet::aggregator {
 namespace {
 
-constexpr double kRowStepPx = 4.0;
+// Height of the point-in-silhouette index's rows, pixels: one pixel keeps a row's edges few
+// (4 px rows were 2-3 % slower on the alien set).
+constexpr double kRowStepPx = 1.0;
 // Margin of the silhouettes' bounding octagons, pixels.
 constexpr double kOctagonMarginPx = 1.0;
 
