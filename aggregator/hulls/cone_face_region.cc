@@ -364,6 +364,7 @@ BuildOutcome BuildViewLines(const std::vector<CameraModel>& cameras, const ConeP
     region.w_max = std::min(full_max, high + margin);
   }
   scratch.view_lines.assign(views, LineRange{});
+  scratch.bounding.clear();
   scratch.corner_inside.assign(views, 1);
   region.lines.clear();
   region.events.clear();
@@ -393,6 +394,9 @@ BuildOutcome BuildViewLines(const std::vector<CameraModel>& cameras, const ConeP
     region.events.insert(region.events.end(), build.events.begin(), build.events.end());
     scratch.view_lines[v] = {first, static_cast<int>(region.lines.size())};
     scratch.corner_inside[v] = build.corner_inside ? 1 : 0;
+    // A view without lines holds the whole chart (one whose corner lies outside too left the
+    // face empty): only the others bound the region.
+    if (!build.lines.empty()) scratch.bounding.push_back(static_cast<int>(v));
   }
   scratch.last_rejecting = -1;
   return BuildOutcome::kBuilt;
@@ -436,14 +440,6 @@ FaceRegion RegionOfFace(const std::vector<CameraModel>& cameras, const ConePlane
       break;
   }
 
-  // A view without lines holds the whole chart (one whose corner lies outside too left the
-  // face empty): only the others bound the region.
-  scratch.bounding.clear();
-  for (size_t v = 0; v < cameras.size(); ++v) {
-    const LineRange lines = scratch.view_lines[v];
-    if (static_cast<int>(v) != plane.view && lines.end > lines.begin)
-      scratch.bounding.push_back(static_cast<int>(v));
-  }
   // A contour vertex of another view changes the region only if it lies inside the rest.
   std::erase_if(region.events, [&](const ChartEvent& event) {
     return !InsideOtherViews(region, scratch, set.Plane(event.first).view, plane.view, event.lambda,

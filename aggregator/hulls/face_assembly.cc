@@ -606,7 +606,7 @@ FaceAssembly AssembleFaces(const ConePlaneSet& set, const std::vector<FaceRegion
   assembly.mesh = assembler.Mesh(weld_tolerance);
   assembly.stats = assembler.Stats();
   assembly.check = CheckClosedManifold(assembly.mesh);
-  if ((assembly.check.open_edges > 0 && !assembly.mesh.triangles.empty()) || keep_vertex_planes)
+  if (assembly.Open() || keep_vertex_planes)
     assembly.vertex_planes = assembler.MeshVertexPlanes(assembly.mesh.vertices.size());
   return assembly;
 }

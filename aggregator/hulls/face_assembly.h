@@ -21,6 +21,8 @@ struct FaceAssembly {
   TriangleMesh mesh;          // named vertices closer than the weld tolerance merged
   PolyhedralHullStats stats;  // its vertices by kind and the faces on the hull
   MeshCheck check;            // of `mesh`
+  // True if the mesh has triangles and edges used by one of them only.
+  bool Open() const { return check.open_edges > 0 && !mesh.triangles.empty(); }
   // Per mesh vertex, the sorted cone planes it lies on; only when the mesh is open (gap
   // filling needs them) or they were asked for.
   std::vector<std::vector<int>> vertex_planes;

@@ -130,12 +130,12 @@ HullAssembly AssembleHull(const ConePlaneSet& set, const std::vector<FaceRegion>
     result.reason = "a face's boundary is not closed loops";
     return assembly;
   }
+  const bool open = faces.Open();
   result.mesh = std::move(faces.mesh);
   result.stats = faces.stats;
   result.stats.cone_faces = set.Planes().size();
   result.stats.faces_with_cuts = with_cuts;
   MeshCheck check = faces.check;
-  const bool open = check.open_edges > 0 && !result.mesh.triangles.empty();
   if (open || options.keep_provenance) {
     result.provenance.vertex_planes = std::move(faces.vertex_planes);
     if (options.keep_provenance) {
