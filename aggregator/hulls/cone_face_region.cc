@@ -453,6 +453,8 @@ FaceRegion RegionOfFace(const std::vector<CameraModel>& cameras, const ConePlane
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
   std::vector<Bound>& bounds = scratch.bounds;
+  region.slabs.reserve(cuts.size() - 1);
+  region.intervals.reserve(2 * (cuts.size() - 1));
   for (size_t k = 0; k + 1 < cuts.size(); ++k) {
     const double a = cuts[k], b = cuts[k + 1];
     const double middle = 0.5 * (a + b);
