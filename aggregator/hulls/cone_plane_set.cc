@@ -134,8 +134,11 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
       for (int index : view_planes_[v]) {
         const ConePlane& plane = Plane(index);
         const auto [a, b] = row_span(plane);
+        const double dy = plane.q.y() - plane.p.y();
+        const RowEdge edge{plane.p.x(), plane.p.y(), plane.q.y(),
+                           dy != 0 ? (plane.q.x() - plane.p.x()) / dy : 0.0};
         for (size_t r = a; r <= b; ++r)
-          rows.edges[fill[r]++] = {plane.p, plane.q};
+          rows.edges[fill[r]++] = edge;
       }
     }
     rows_.push_back(std::move(rows));
@@ -192,12 +195,8 @@ bool ConePlaneSet::Contains(int view, const Eigen::Vector2d& x) const {
   const auto row = static_cast<size_t>(r);
   bool inside = false;
   for (uint32_t k = rows.starts[row]; k < rows.starts[row + 1]; ++k) {
-    const Eigen::Vector2d& a = rows.edges[k][0];
-    const Eigen::Vector2d& b = rows.edges[k][1];
-    if ((a.y() > x.y()) != (b.y() > x.y()) &&
-        x.x() < (b.x() - a.x()) * (x.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-      inside = !inside;
-    }
+    const RowEdge& e = rows.edges[k];
+    inside ^= ((e.ay > x.y()) != (e.by > x.y())) & (x.x() < e.dx_dy * (x.y() - e.ay) + e.ax);
   }
   return inside;
 }

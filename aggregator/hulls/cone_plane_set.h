@@ -77,10 +77,14 @@ class ConePlaneSet {
   // The contour edges whose y-range meets each row, their end points stored in the row so
   // a point-in-silhouette test reads one contiguous run: row r's edges are
   // edges[starts[r], starts[r + 1]).
+  // An edge a -> b as the point-in-silhouette test reads it: x = a.x + dx_dy (y - a.y).
+  struct RowEdge {
+    double ax = 0, ay = 0, by = 0, dx_dy = 0;
+  };
   struct RowIndex {
     double y0 = 0, step = 1;
     std::vector<uint32_t> starts;
-    std::vector<std::array<Eigen::Vector2d, 2>> edges;
+    std::vector<RowEdge> edges;
 
     size_t Rows() const { return starts.empty() ? 0 : starts.size() - 1; }
   };
