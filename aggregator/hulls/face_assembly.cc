@@ -303,6 +303,7 @@ class HullAssembler {
   static void WalkTrapezoids(const FaceRegion& region, FaceCorners& face, Name name) {
     thread_local std::vector<std::pair<int, Corner>> previous, current;
     previous.clear();
+    face.trapezoids.reserve(region.intervals.size());  // one per slab's interval
     for (size_t s = 0; s < region.slabs.size(); ++s) {
       const ChartSlab& slab = region.slabs[s];
       current.clear();
@@ -372,6 +373,7 @@ class HullAssembler {
   void NameCorners(const FaceRegion& region) {
     FaceCorners& face = faces_[static_cast<size_t>(region.plane)];
     const ConePlane& plane = set_.Plane(region.plane);
+    face.named.reserve(2 * region.intervals.size() + 2);  // each trapezoid's right corners
     WalkTrapezoids(region, face, [&](int line, double lambda, double w, int) {
       const std::optional<VertexKey> key = CornerKey(region, plane, line, lambda, w);
       if (!key) return Corner{w, -++face.cuts};
@@ -429,6 +431,7 @@ class HullAssembler {
     if (!triangulation.success) return false;
     face.on_hull = true;
     const bool reverse = !ChartIsOutward(region, set_.Plane(region.plane));
+    face.triangles.reserve(triangulation.triangles.size());
     for (const auto& t : triangulation.triangles) {
       const auto vertex = [&](int k) {
         return scratch.loop_vertices[static_cast<size_t>(t[static_cast<size_t>(k)])];

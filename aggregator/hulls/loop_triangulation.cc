@@ -51,9 +51,11 @@ std::optional<bool> StrictlyInside(const std::vector<Eigen::Vector2d>& loop,
 class EarClipper {
  public:
   // `rounding`: the turn (twice a triangle's area) that counts as flat once only flat ears
-  // are left.
-  EarClipper(std::vector<std::array<int, 3>>& triangles, double rounding)
-      : triangles_(triangles), rounding_(rounding) {}
+  // are left; `nodes`: room made for this many (the rings' points, two more per hole).
+  EarClipper(std::vector<std::array<int, 3>>& triangles, double rounding, size_t nodes)
+      : triangles_(triangles), rounding_(rounding) {
+    nodes_.reserve(nodes);
+  }
 
   // Adds a loop's points as a ring; returns its first node.
   int AddRing(const std::vector<Eigen::Vector2d>& loop, int first_index) {
@@ -287,7 +289,10 @@ LoopTriangulation TriangulateLoops(const std::vector<std::vector<Eigen::Vector2d
     }
     holes_of[owner].push_back(hole);
   }
-  EarClipper clipper(result.triangles, 2 * rounding);
+  // Each hole's bridge adds two points; a ring of n points makes n - 2 triangles.
+  const size_t nodes = static_cast<size_t>(count) + 2 * holes.size();
+  result.triangles.reserve(nodes);
+  EarClipper clipper(result.triangles, 2 * rounding, nodes);
   for (const size_t outer : outers) {
     const int ring = clipper.AddRing(loops[outer], first[outer]);
     std::vector<std::pair<double, int>> hole_rings;
