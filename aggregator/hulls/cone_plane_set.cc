@@ -172,10 +172,15 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
           continue;
         }
         pair.arcs.push_back({std::min(a, c), std::max(a, c), index});
-        pair.longest = std::max(pair.longest, std::abs(a - c));
       }
       std::sort(pair.arcs.begin(), pair.arcs.end(),
                 [](const EdgeArc& x, const EdgeArc& y) { return x.lo < y.lo; });
+      pair.reach.resize(pair.arcs.size());
+      double reach = -std::numeric_limits<double>::infinity();
+      for (size_t k = 0; k < pair.arcs.size(); ++k) {
+        reach = std::max(reach, pair.arcs[k].hi);
+        pair.reach[k] = reach;
+      }
     }
   });
 }
@@ -212,9 +217,10 @@ void ConePlaneSet::CandidateEdges(int view, int other, const Eigen::Vector3d& fr
   }
   const double lo = std::min(a, c) - 1e-9, hi = std::max(a, c) + 1e-9;
   out.insert(out.end(), pair.wide.begin(), pair.wide.end());
-  auto it = std::lower_bound(pair.arcs.begin(), pair.arcs.end(), lo - pair.longest,
-                             [](const EdgeArc& arc, double value) { return arc.lo < value; });
-  for (; it != pair.arcs.end() && it->lo <= hi; ++it) {
+  // The arcs before the first that reaches lo all end before it.
+  const auto first = std::lower_bound(pair.reach.begin(), pair.reach.end(), lo);
+  for (auto it = pair.arcs.begin() + (first - pair.reach.begin());
+       it != pair.arcs.end() && it->lo <= hi; ++it) {
     if (it->hi >= lo) out.push_back(it->plane);
   }
 }

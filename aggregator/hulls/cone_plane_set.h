@@ -71,7 +71,7 @@ class ConePlaneSet {
   struct PairIndex {
     Eigen::Vector3d u1, u2;     // basis of the plane normal to the baseline
     std::vector<EdgeArc> arcs;  // sorted by lo
-    double longest = 0;         // largest hi - lo in `arcs`
+    std::vector<double> reach;  // per arc: the largest hi of the arcs up to it (non-decreasing)
     std::vector<int> wide;      // planes whose range could not be bounded
   };
   // The contour edges whose y-range meets each row, their end points stored in the row so
