@@ -74,13 +74,13 @@ class ConePlaneSet {
     std::vector<double> reach;  // per arc: the largest hi of the arcs up to it (non-decreasing)
     std::vector<int> wide;      // planes whose range could not be bounded
   };
-  // The contour edges whose y-range meets each row, their end points stored in the row so
-  // a point-in-silhouette test reads one contiguous run: row r's edges are
-  // edges[starts[r], starts[r + 1]).
-  // An edge a -> b as the point-in-silhouette test reads it: x = a.x + dx_dy (y - a.y).
+  // A contour edge a -> b as the point-in-silhouette test reads it: its ends' heights and the
+  // line x = ax + dx_dy (y - ay).
   struct RowEdge {
     double ax = 0, ay = 0, by = 0, dx_dy = 0;
   };
+  // The contour edges whose y-range meets each row, stored in the row so a point-in-silhouette
+  // test reads one contiguous run: row r's edges are edges[starts[r], starts[r + 1]).
   struct RowIndex {
     double y0 = 0, step = 1;
     std::vector<uint32_t> starts;
