@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -44,6 +45,42 @@ Eigen::AlignedBox2d UndistortedSilhouetteRect(const CameraModel& camera, const c
   box.min().array() -= 0.5;
   box.max().array() += 0.5;
   return box;
+}
+
+// False only if no point X on the line where planes a and b meet passes every half-space with
+// the slack `tolerance` * (1 + |X|) (so no vertex there does): the line clipped by each
+// half-space on its two halves from a point X0 on it, with ten times the slack.
+bool LineCanHoldVertex(const std::vector<HalfSpace>& planes, size_t a, size_t b, double tolerance) {
+  const Eigen::Vector3d d = planes[a].normal.cross(planes[b].normal);
+  const double d_norm = d.norm();
+  if (d_norm < 1e-12) return true;
+  // The line's point nearest the origin: n_a . X0 = -o_a, n_b . X0 = -o_b, d . X0 = 0.
+  Eigen::Matrix3d rows;
+  rows.row(0) = planes[a].normal.transpose();
+  rows.row(1) = planes[b].normal.transpose();
+  rows.row(2) = d.transpose();
+  const Eigen::Vector3d x0 =
+      rows.partialPivLu().solve(Eigen::Vector3d(-planes[a].offset, -planes[b].offset, 0));
+  const double slack = 10 * tolerance;
+  // On each half t >= 0 and t <= 0 (X = X0 + t d): s * (n . d + slack |d|) * |t| >=
+  // -(n . X0 + o) - slack (1 + |X0|), with s the half's sign, for every half-space.
+  for (const double sign : {1.0, -1.0}) {
+    double lo = 0, hi = std::numeric_limits<double>::infinity();
+    for (const HalfSpace& h : planes) {
+      const double rate = sign * h.normal.dot(d) + slack * d_norm;
+      const double need = -(h.normal.dot(x0) + h.offset) - slack * (1 + x0.norm());
+      if (rate > 0) {
+        lo = std::max(lo, need / rate);
+      } else if (rate < 0) {
+        hi = std::min(hi, need / rate);
+      } else if (need > 0) {
+        hi = -1;
+      }
+      if (lo > hi) break;
+    }
+    if (lo <= hi) return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -123,10 +160,12 @@ ViewingConeBounds ComputeViewingConeBounds(const std::vector<CameraModel>& camer
       }
     }
   }
-  // Bounded: the box of the polyhedron's vertices (intersections of three planes).
+  // Bounded: the box of the polyhedron's vertices (intersections of three planes), found on
+  // the lines of the plane pairs that can hold one.
   WorldBox box;
   for (size_t a = 0; a < planes.size(); ++a) {
     for (size_t b = a + 1; b < planes.size(); ++b) {
+      if (!LineCanHoldVertex(planes, a, b, kTolerance)) continue;
       for (size_t c = b + 1; c < planes.size(); ++c) {
         // Cramer's rule: X = -(o_a (n_b x n_c) + o_b (n_c x n_a) + o_c (n_a x n_b)) / det.
         const Eigen::Vector3d bc = planes[b].normal.cross(planes[c].normal);
