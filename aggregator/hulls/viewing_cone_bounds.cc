@@ -54,21 +54,19 @@ bool LineCanHoldVertex(const std::vector<HalfSpace>& planes, size_t a, size_t b,
   const Eigen::Vector3d d = planes[a].normal.cross(planes[b].normal);
   const double d_norm = d.norm();
   if (d_norm < 1e-12) return true;
-  // The line's point nearest the origin: n_a . X0 = -o_a, n_b . X0 = -o_b, d . X0 = 0.
-  Eigen::Matrix3d rows;
-  rows.row(0) = planes[a].normal.transpose();
-  rows.row(1) = planes[b].normal.transpose();
-  rows.row(2) = d.transpose();
-  const Eigen::Vector3d x0 =
-      rows.partialPivLu().solve(Eigen::Vector3d(-planes[a].offset, -planes[b].offset, 0));
+  // The line's point nearest the origin (n_a . X0 = -o_a, n_b . X0 = -o_b, d . X0 = 0).
+  const Eigen::Vector3d x0 = -(planes[a].offset * planes[b].normal.cross(d) +
+                               planes[b].offset * d.cross(planes[a].normal)) /
+                             (d_norm * d_norm);
   const double slack = 10 * tolerance;
+  const double x0_slack = slack * (1 + x0.norm());
   // On each half t >= 0 and t <= 0 (X = X0 + t d): s * (n . d + slack |d|) * |t| >=
   // -(n . X0 + o) - slack (1 + |X0|), with s the half's sign, for every half-space.
   for (const double sign : {1.0, -1.0}) {
     double lo = 0, hi = std::numeric_limits<double>::infinity();
     for (const HalfSpace& h : planes) {
       const double rate = sign * h.normal.dot(d) + slack * d_norm;
-      const double need = -(h.normal.dot(x0) + h.offset) - slack * (1 + x0.norm());
+      const double need = -(h.normal.dot(x0) + h.offset) - x0_slack;
       if (rate > 0) {
         lo = std::max(lo, need / rate);
       } else if (rate < 0) {
