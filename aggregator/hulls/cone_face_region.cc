@@ -370,8 +370,15 @@ BuildOutcome BuildViewLines(const std::vector<CameraModel>& cameras, const ConeP
   region.events.clear();
   for (int view : scratch.view_order) {
     const auto v = static_cast<size_t>(view);
-    if (scratch.builds[v].w_min != region.w_min || scratch.builds[v].w_max != region.w_max) {
-      ViewBuild& build = scratch.builds[v];
+    ViewBuild& build = scratch.builds[v];
+    if (build.lines.empty()) {
+      // Its silhouette held the whole box it was built for (the face would be empty had it
+      // held none of it), so it holds the final one too.
+      build.w_min = region.w_min;
+      build.w_max = region.w_max;
+      continue;
+    }
+    if (build.w_min != region.w_min || build.w_max != region.w_max) {
       const Eigen::Vector3d corner =
           ChartToImage(set, view, region) * Eigen::Vector3d(0, region.w_min, 1);
       NarrowViewBuild(region.w_min, region.w_max, InsideSilhouette(set, view, corner.hnormalized()),
