@@ -60,8 +60,9 @@ bool LineCanHoldVertex(const std::vector<HalfSpace>& planes, size_t a, size_t b,
                              (d_norm * d_norm);
   const double slack = 10 * tolerance;
   const double x0_slack = slack * (1 + x0.norm());
-  // On each half t >= 0 and t <= 0 (X = X0 + t d): s * (n . d + slack |d|) * |t| >=
-  // -(n . X0 + o) - slack (1 + |X0|), with s the half's sign, for every half-space.
+  // On each half t >= 0 and t <= 0 (X = X0 + t d, s the half's sign), every half-space asks
+  // (s n . d + slack |d|) |t| >= -(n . X0 + o) - slack (1 + |X0|): implied by its vertex test,
+  // as |X| <= |X0| + |t| |d|.
   for (const double sign : {1.0, -1.0}) {
     double lo = 0, hi = std::numeric_limits<double>::infinity();
     for (const HalfSpace& h : planes) {

@@ -73,7 +73,7 @@ TEST(ViewingConeBoundsTest, BoxHoldsEveryPointInsideAllConesOnRandomRigs) {
     }
     ++bounded;
     // Points inside every cone, sampled in the box grown by half its size on every side, lie
-    // in the box; their extent reaches most of it.
+    // in the box; their extent spans at least half of it along every axis.
     Eigen::AlignedBox3d inside_extent;
     const double tolerance = 1e-9 * (1 + bounds.box.max().norm() + bounds.box.min().norm());
     const Eigen::Vector3d low = bounds.box.min() - 0.5 * bounds.box.sizes();
