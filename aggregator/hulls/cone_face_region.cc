@@ -371,20 +371,15 @@ BuildOutcome BuildViewLines(const std::vector<CameraModel>& cameras, const ConeP
   for (int view : scratch.view_order) {
     const auto v = static_cast<size_t>(view);
     ViewBuild& build = scratch.builds[v];
-    if (build.lines.empty()) {
-      // Its silhouette held the whole box it was built for (the face would be empty had it
-      // held none of it), so it holds the final one too.
-      build.w_min = region.w_min;
-      build.w_max = region.w_max;
+    // A view without lines held the whole box it was built for (the face would be empty had
+    // it held none of it), so it holds the final one too.
+    if (build.lines.empty() || (build.w_min == region.w_min && build.w_max == region.w_max))
       continue;
-    }
-    if (build.w_min != region.w_min || build.w_max != region.w_max) {
-      const Eigen::Vector3d corner =
-          ChartToImage(set, view, region) * Eigen::Vector3d(0, region.w_min, 1);
-      NarrowViewBuild(region.w_min, region.w_max, InsideSilhouette(set, view, corner.hnormalized()),
-                      build);
-      if (build.lines.empty() && !build.corner_inside) return BuildOutcome::kEmpty;
-    }
+    const Eigen::Vector3d corner =
+        ChartToImage(set, view, region) * Eigen::Vector3d(0, region.w_min, 1);
+    NarrowViewBuild(region.w_min, region.w_max, InsideSilhouette(set, view, corner.hnormalized()),
+                    build);
+    if (build.lines.empty() && !build.corner_inside) return BuildOutcome::kEmpty;
   }
   size_t line_count = 0, event_count = 0;
   for (int view : scratch.view_order) {

@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/Geometry>
 #include <random>
 #include <string>
 #include <vector>
@@ -26,14 +25,8 @@ CameraModel CameraLookingAtOrigin(const Eigen::Vector3d& from, double distance, 
   camera.K << 800, 0, 320, 0, 800, 240, 0, 0, 1;
   const Eigen::Vector3d centre = distance * from.normalized();
   const Eigen::Vector3d aim(jitter(rng), jitter(rng), jitter(rng));
-  const Eigen::Vector3d z = (aim - centre).normalized();
-  const Eigen::Vector3d x = z.unitOrthogonal();
-  Eigen::Matrix3d R;
-  R.row(0) = x.transpose();
-  R.row(1) = z.cross(x).transpose();
-  R.row(2) = z.transpose();
-  camera.R = R;
-  camera.t = -R * centre;
+  camera.R = LookAtRotation(centre, aim, Eigen::Vector3d::UnitZ());
+  camera.t = -camera.R * centre;
   return camera;
 }
 
