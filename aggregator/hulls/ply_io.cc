@@ -100,7 +100,9 @@ TriangleMesh ReadPlyMesh(const std::string& path) {
   }
   TriangleMesh mesh;
   size_t at = header_end + std::string("end_header\n").size();
-  if (data.size() - at < vertex_count * 12 + face_count * 13) {
+  // Compared by division: counts from the header can be anything, their products overflow.
+  const size_t body = data.size() - at;
+  if (vertex_count > body / 12 || face_count > (body - vertex_count * 12) / 13) {
     throw InputError(path + ": PLY file is truncated");
   }
   mesh.vertices.resize(vertex_count);

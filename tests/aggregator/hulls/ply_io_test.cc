@@ -84,5 +84,28 @@ TEST(PlyIoTest, RejectsTruncatedAndForeignFiles) {
   EXPECT_THROW(ReadPlyMesh((dir / "missing.ply").string()), InputError);
 }
 
+// Counts whose byte sizes overflow (12 x 2^62 is 0 modulo 2^64; "-1" reads as 2^64 - 1) are
+// a truncated file, not an allocation of exabytes.
+TEST(PlyIoTest, RejectsCountsWhoseSizesOverflow) {
+  silnet::testing::TempDir dir;
+  for (const std::string& counts :
+       {std::string("element vertex 4611686018427387904\n"), std::string("element vertex -1\n")}) {
+    {
+      std::ofstream file(dir / "huge.ply", std::ios::binary);
+      file << "ply\nformat binary_little_endian 1.0\n"
+           << counts
+           << "property float x\nproperty float y\nproperty float z\nelement face 0\n"
+              "property list uchar int vertex_indices\nend_header\n";
+      file << std::string(24, '\0');
+    }
+    try {
+      ReadPlyMesh((dir / "huge.ply").string());
+      FAIL() << "accepted " << counts;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace silnet::aggregator
