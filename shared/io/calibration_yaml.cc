@@ -3,8 +3,12 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <fstream>
 #include <opencv2/core/eigen.hpp>
+#include <sstream>
 
+#include "shared/io/yaml_nesting.h"
 #include "shared/util/check.h"
 
 namespace silnet {
@@ -13,22 +17,35 @@ namespace {
 constexpr int kCalibrationVersion = 1;
 
 // Reads a matrix field as a flat vector of doubles; throws InputError if it is missing,
-// not a matrix, has non-finite entries or has a size not in `allowed_sizes`.
+// not a one-channel matrix, has non-finite entries or has (or declares) a size not in
+// `allowed_sizes`.
 std::vector<double> ReadMatrixEntries(const cv::FileNode& node, const char* name,
                                       const std::string& where,
-                                      std::initializer_list<size_t> allowed_sizes) {
+                                      std::initializer_list<int64_t> allowed_sizes) {
   const cv::FileNode field = node[name];
   if (field.empty()) throw InputError(where + ": missing '" + name + "'");
+  const auto check_size = [&](int64_t total) {
+    if (std::find(allowed_sizes.begin(), allowed_sizes.end(), total) == allowed_sizes.end()) {
+      throw InputError(where + ": '" + name + "' has " + std::to_string(total) +
+                       " entries, expected " + std::to_string(*allowed_sizes.begin()));
+    }
+  };
+  // The size a matrix declares, checked before OpenCV allocates it.
+  if (field.isMap()) {
+    const cv::FileNode rows = field["rows"], cols = field["cols"];
+    if (!rows.isInt() || !cols.isInt())
+      throw InputError(where + ": '" + name + "' is not a matrix (no integer rows and cols)");
+    check_size(static_cast<int64_t>(static_cast<int>(rows)) * static_cast<int>(cols));
+  }
   cv::Mat mat;
   try {
     field >> mat;
   } catch (const cv::Exception& e) {
     throw InputError(where + ": '" + name + "' is not a matrix (" + e.err + ")");
   }
-  if (std::find(allowed_sizes.begin(), allowed_sizes.end(), mat.total()) == allowed_sizes.end()) {
-    throw InputError(where + ": '" + name + "' has " + std::to_string(mat.total()) +
-                     " entries, expected " + std::to_string(*allowed_sizes.begin()));
-  }
+  if (mat.channels() != 1)
+    throw InputError(where + ": '" + name + "' is not a matrix (more than one channel)");
+  check_size(static_cast<int64_t>(mat.total()));
   mat.convertTo(mat, CV_64F);
   std::vector<double> values(mat.begin<double>(), mat.end<double>());
   for (double v : values) {
@@ -55,10 +72,29 @@ int ReadPositiveInt(const cv::FileNode& node, const char* name, const std::strin
   return value;
 }
 
-double ReadReal(const cv::FileNode& node, const char* name, double fallback) {
+// An optional number field, `fallback` when absent; throws InputError if it is not a number.
+double ReadReal(const cv::FileNode& node, const char* name, double fallback,
+                const std::string& where) {
   const cv::FileNode field = node[name];
   if (field.empty()) return fallback;
+  if (!field.isReal() && !field.isInt())
+    throw InputError(where + ": '" + name + "' must be a number");
   return static_cast<double>(field);
+}
+
+// read(), with what OpenCV's parser throws (its own exceptions, and the standard library's
+// for lengths or allocations a malformed file asks for) turned into InputError naming `path`.
+template <class Read>
+auto ReadGuarded(const std::filesystem::path& path, const char* what, Read read) {
+  try {
+    return read();
+  } catch (const InputError&) {
+    throw;
+  } catch (const cv::Exception& e) {
+    throw InputError(path.string() + ": " + what + " (" + e.err + ")");
+  } catch (const std::exception& e) {
+    throw InputError(path.string() + ": " + what + " (" + e.what() + ")");
+  }
 }
 
 template <class Derived>
@@ -92,6 +128,7 @@ std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::str
   int index = 0;
   for (const cv::FileNode& node : cameras) {
     std::string where = source + ": camera " + std::to_string(index++);
+    if (!node.isMap()) throw InputError(where + ": not a map of fields (id, K, R, t, ...)");
     CameraModel c;
     if (node["id"].empty() || !node["id"].isString()) throw InputError(where + ": missing 'id'");
     c.id = static_cast<std::string>(node["id"]);
@@ -104,8 +141,8 @@ std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::str
       c.dist[static_cast<Eigen::Index>(k)] = dist[k];
     c.R = ReadMatrix<3, 3>(node, "R", where);
     c.t = ReadMatrix<3, 1>(node, "t", where);
-    c.fps = ReadReal(node, "fps", 30.0);
-    c.time_offset = ReadReal(node, "time_offset", 0.0);
+    c.fps = ReadReal(node, "fps", 30.0, where);
+    c.time_offset = ReadReal(node, "time_offset", 0.0, where);
     if (!(c.K(0, 0) > 0) || !(c.K(1, 1) > 0) || c.K(2, 2) != 1.0 || c.K(1, 0) != 0.0 ||
         c.K(2, 0) != 0.0 || c.K(2, 1) != 0.0) {
       throw InputError(where +
@@ -115,7 +152,11 @@ std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::str
         c.R.determinant() < 0) {
       throw InputError(where + ": R is not a rotation matrix");
     }
-    if (!(c.fps > 0)) throw InputError(where + ": fps must be positive");
+    if (!(c.fps > 0) || !std::isfinite(c.fps)) throw InputError(where + ": fps must be positive");
+    if (!std::isfinite(c.time_offset)) throw InputError(where + ": time_offset must be finite");
+    for (const CameraModel& earlier : out) {
+      if (earlier.id == c.id) throw InputError(where + ": a second camera with this id");
+    }
     out.push_back(std::move(c));
   }
   return out;
@@ -123,13 +164,17 @@ std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::str
 
 cv::FileStorage OpenYamlForReading(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path)) throw InputError(path.string() + ": no such file");
-  try {
-    cv::FileStorage storage(path.string(), cv::FileStorage::READ);
-    if (!storage.isOpened()) throw InputError(path.string() + ": cannot open as YAML");
-    return storage;
-  } catch (const cv::Exception& e) {
-    throw InputError(path.string() + ": not valid YAML (" + e.err + ")");
-  }
+  std::ifstream file(path, std::ios::binary);
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (!file) throw InputError(path.string() + ": cannot read");
+  const std::string problem = YamlNestingProblem(text.view());
+  if (!problem.empty()) throw InputError(path.string() + ": not a silnet file: " + problem);
+  cv::FileStorage storage = ReadGuarded(path, "not valid YAML", [&] {
+    return cv::FileStorage(text.str(), cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  });
+  if (!storage.isOpened()) throw InputError(path.string() + ": cannot open as YAML");
+  return storage;
 }
 
 void SaveCalibration(const std::filesystem::path& path, const std::vector<CameraModel>& cameras) {
@@ -141,11 +186,8 @@ void SaveCalibration(const std::filesystem::path& path, const std::vector<Camera
 
 std::vector<CameraModel> LoadCalibration(const std::filesystem::path& path) {
   cv::FileStorage storage = OpenYamlForReading(path);
-  try {
-    return ReadCameras(storage["cameras"], path.string());
-  } catch (const cv::Exception& e) {
-    throw InputError(path.string() + ": malformed (" + e.err + ")");
-  }
+  return ReadGuarded(path, "malformed",
+                     [&] { return ReadCameras(storage["cameras"], path.string()); });
 }
 
 void WriteCameraMoves(cv::FileStorage& storage, const std::vector<CameraMoveRecord>& moves) {
@@ -162,7 +204,7 @@ void WriteCameraMoves(cv::FileStorage& storage, const std::vector<CameraMoveReco
 
 std::vector<CameraModel> LoadCamerasAtFrame(const std::filesystem::path& path, int frame) {
   cv::FileStorage storage = OpenYamlForReading(path);
-  try {
+  return ReadGuarded(path, "malformed", [&] {
     std::vector<CameraModel> cameras = ReadCameras(storage["cameras"], path.string());
     const cv::FileNode moves = storage["camera_moves"];
     if (moves.empty()) return cameras;
@@ -185,9 +227,7 @@ std::vector<CameraModel> LoadCamerasAtFrame(const std::filesystem::path& path, i
       if (r.frame <= frame) *it = r.camera;
     }
     return cameras;
-  } catch (const cv::Exception& e) {
-    throw InputError(path.string() + ": malformed (" + e.err + ")");
-  }
+  });
 }
 
 }  // namespace silnet

@@ -23,7 +23,8 @@ std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::str
 void SaveCalibration(const std::filesystem::path& path, const std::vector<CameraModel>& cameras);
 
 // Reads calibration.yaml (or any file with a `cameras` block, such as ground_truth.yaml).
-// Throws InputError for a missing, unreadable or malformed file.
+// Throws InputError for a missing, unreadable or malformed file, a camera field that is not
+// a number where one is due or not finite, and two cameras with one id.
 std::vector<CameraModel> LoadCalibration(const std::filesystem::path& path);
 
 // A camera that moved during a capture: from frame `frame` on it is `camera` (same id).
@@ -42,7 +43,9 @@ void WriteCameraMoves(cv::FileStorage& storage, const std::vector<CameraMoveReco
 // for a move naming a camera the file does not hold.
 std::vector<CameraModel> LoadCamerasAtFrame(const std::filesystem::path& path, int frame);
 
-// Opens a FileStorage for reading; throws InputError with the path and OpenCV's reason.
+// Opens a FileStorage for reading; throws InputError with the path and the reason for a
+// missing or unreadable file, one nested deeper than OpenCV's parser survives
+// (yaml_nesting.h), or one the parser refuses.
 cv::FileStorage OpenYamlForReading(const std::filesystem::path& path);
 
 }  // namespace silnet

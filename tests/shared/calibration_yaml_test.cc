@@ -107,6 +107,50 @@ TEST(CalibrationYaml, RejectsMissingAndMalformedFilesWithReasons) {
       "positive focal");
   ExpectRejected(camera_file("t", ""), "missing 't'");
   ExpectRejected(camera_file("R", "[1, 2, 3]"), "'R'");
+  // A declared size is refused before OpenCV allocates it (80 GB here).
+  ExpectRejected(
+      camera_file("K", "!!opencv-matrix { rows: 100000, cols: 100000, dt: d, data: [1] }"),
+      "'K' has 10000000000 entries, expected 9");
+  ExpectRejected(camera_file("K",
+                             "!!opencv-matrix { rows: 3, cols: 3, dt: \"2d\", data: [1, 2, 3, 4, "
+                             "5, 6, 7, 8, 9, 1, 2, 3, 4, 5, 6, 7, 8, 9] }"),
+                 "'K' is not a matrix (more than one channel)");
+  ExpectRejected(camera_file("fps", ".Inf"), "fps must be positive");
+  ExpectRejected(camera_file("time_offset", ".NaN"), "time_offset must be finite");
+  ExpectRejected(camera_file("time_offset", "soon"), "'time_offset' must be a number");
+  WriteText(dir / "scalars.yaml", "%YAML:1.0\n---\ncameras: [ 1, 2 ]\n");
+  ExpectRejected(dir / "scalars.yaml", "camera 0: not a map of fields");
+}
+
+TEST(CalibrationYaml, RejectsTwoCamerasWithOneId) {
+  testing::TempDir dir;
+  auto cameras = TwoCameras();
+  cameras[1].id = cameras[0].id;
+  SaveCalibration(dir / "c.yaml", cameras);
+  ExpectRejected(dir / "c.yaml", "camera 1 ('cam00'): a second camera with this id");
+}
+
+// OpenCV's parser recurses once per nesting level: without the guard these files of a few
+// hundred kilobytes overflow the stack and kill the process.
+TEST(CalibrationYaml, RefusesNestingThatWouldOverflowTheParser) {
+  testing::TempDir dir;
+  const std::string header = "%YAML:1.0\n---\n";
+  WriteText(dir / "brackets.yaml",
+            header + "cameras: " + std::string(200000, '[') + std::string(200000, ']') + "\n");
+  ExpectRejected(dir / "brackets.yaml", "nests '[' and '{' more than 256 deep (line 3)");
+  std::string dashes = header + "cameras: []\nother:\n";
+  for (int k = 0; k < 100000; ++k)
+    dashes += "- ";
+  WriteText(dir / "dashes.yaml", dashes + "1\n");
+  ExpectRejected(dir / "dashes.yaml", "line 5 is indented or nested in sequences more than");
+  // Nesting within the limits still reads.
+  auto cameras = TwoCameras();
+  SaveCalibration(dir / "c.yaml", cameras);
+  std::ifstream in(dir / "c.yaml");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  WriteText(dir / "nested.yaml",
+            text + "extra: " + std::string(200, '[') + std::string(200, ']') + "\n");
+  EXPECT_EQ(LoadCalibration(dir / "nested.yaml").size(), 2u);
 }
 
 TEST(CalibrationYaml, RejectsANonRotation) {
