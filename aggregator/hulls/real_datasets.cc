@@ -144,9 +144,23 @@ cv::Mat ReadPbm(const std::filesystem::path& path, int foreground_bit) {
   } catch (const std::exception&) {
     throw InputError(fmt::format("{}: malformed PBM size", path.string()));
   }
-  if (width <= 0 || height <= 0) throw InputError(fmt::format("{}: bad PBM size", path.string()));
-  // PbmToken consumed the single whitespace byte after the height; raster rows follow.
-  const size_t row_bytes = static_cast<size_t>(width + 7) / 8;
+  // A camera image, not a size whose buffer cannot be allocated or whose row length overflows.
+  constexpr int kMaxSide = 1 << 16;
+  if (width <= 0 || height <= 0 || width > kMaxSide || height > kMaxSide) {
+    throw InputError(fmt::format("{}: bad PBM size {}x{} (1 to {} pixels a side)", path.string(),
+                                 width, height, kMaxSide));
+  }
+  // PbmToken consumed the single whitespace byte after the height; raster rows follow, and
+  // must all be there before the mask is allocated.
+  const size_t row_bytes = (static_cast<size_t>(width) + 7) / 8;
+  const std::streampos raster = in.tellg();
+  in.seekg(0, std::ios::end);
+  const auto available = static_cast<size_t>(in.tellg() - raster);
+  in.seekg(raster);
+  if (available < row_bytes * static_cast<size_t>(height)) {
+    throw InputError(
+        fmt::format("{} is truncated at row {}", path.string(), available / row_bytes));
+  }
   std::vector<unsigned char> row(row_bytes);
   cv::Mat mask(height, width, CV_8UC1);
   for (int y = 0; y < height; ++y) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -105,6 +106,34 @@ RealHull CarveAndMeasure(const RealCapture& capture, const std::string& name) {
               result.mesh.triangles.size());
   Measure(capture, result);
   return result;
+}
+
+// A 10x2 raster: row 0 bits 1 at x = 0 and 9, row 1 all 0; each row padded to two bytes.
+TEST(RealDataHullTest, ReadPbmReadsBitsAndRefusesBadHeaders) {
+  silnet::testing::TempDir dir;
+  const auto write = [&](const std::string& name, const std::string& bytes) {
+    std::ofstream(dir / name, std::ios::binary) << bytes;
+    return dir / name;
+  };
+  const cv::Mat mask =
+      ReadPbm(write("ok.pbm", "P4\n# comment\n10 2\n" + std::string("\x80\x40\0\0", 4)), 1);
+  ASSERT_EQ(mask.size(), cv::Size(10, 2));
+  EXPECT_EQ(cv::countNonZero(mask), 2);
+  EXPECT_EQ(mask.at<uint8_t>(0, 0), 255);
+  EXPECT_EQ(mask.at<uint8_t>(0, 9), 255);
+  EXPECT_EQ(cv::countNonZero(ReadPbm(dir / "ok.pbm", 0)), 18);
+  const auto refused = [&](const std::filesystem::path& path, const std::string& fragment) {
+    try {
+      ReadPbm(path, 1);
+      ADD_FAILURE() << "accepted " << path;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  refused(write("wide.pbm", "P4\n2147483647 1\n"), "bad PBM size 2147483647x1");
+  refused(write("huge.pbm", "P4\n60000 60000\n"), "truncated at row 0");
+  refused(write("cut.pbm", "P4\n10 2\n" + std::string("\x80\x40\0", 3)), "truncated at row 1");
+  refused(write("ascii.pbm", "P1\n1 1\n1\n"), "not a binary PBM");
 }
 
 TEST(RealDataHullTest, InriaDancer) {
