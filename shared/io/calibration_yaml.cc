@@ -8,7 +8,7 @@
 #include <opencv2/core/eigen.hpp>
 #include <sstream>
 
-#include "shared/io/yaml_nesting.h"
+#include "shared/io/yaml_guard.h"
 #include "shared/util/check.h"
 
 namespace silnet {
@@ -162,13 +162,15 @@ std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::str
   return out;
 }
 
-cv::FileStorage OpenYamlForReading(const std::filesystem::path& path) {
+cv::FileStorage OpenYamlForReading(const std::filesystem::path& path,
+                                   std::chrono::milliseconds parse_limit) {
   if (!std::filesystem::exists(path)) throw InputError(path.string() + ": no such file");
   std::ifstream file(path, std::ios::binary);
   std::ostringstream text;
   text << file.rdbuf();
   if (!file) throw InputError(path.string() + ": cannot read");
-  const std::string problem = YamlNestingProblem(text.view());
+  std::string problem = YamlNestingProblem(text.view());
+  if (problem.empty()) problem = YamlParserProblem(text.str(), parse_limit);
   if (!problem.empty()) throw InputError(path.string() + ": not a silnet file: " + problem);
   cv::FileStorage storage = ReadGuarded(path, "not valid YAML", [&] {
     return cv::FileStorage(text.str(), cv::FileStorage::READ | cv::FileStorage::MEMORY);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "shared/geometry/camera_model.h"
+#include "shared/io/yaml_guard.h"
 
 namespace silnet {
 
@@ -44,8 +45,10 @@ void WriteCameraMoves(cv::FileStorage& storage, const std::vector<CameraMoveReco
 std::vector<CameraModel> LoadCamerasAtFrame(const std::filesystem::path& path, int frame);
 
 // Opens a FileStorage for reading; throws InputError with the path and the reason for a
-// missing or unreadable file, one nested deeper than OpenCV's parser survives
-// (yaml_nesting.h), or one the parser refuses.
-cv::FileStorage OpenYamlForReading(const std::filesystem::path& path);
+// missing or unreadable file, one nested deeper than OpenCV's parser survives, one on which
+// the parser crashes or is still running after `parse_limit` (yaml_guard.h), or one the
+// parser refuses.
+cv::FileStorage OpenYamlForReading(const std::filesystem::path& path,
+                                   std::chrono::milliseconds parse_limit = kYamlParseLimit);
 
 }  // namespace silnet

@@ -1,6 +1,13 @@
-#include "shared/io/yaml_nesting.h"
+#include "shared/io/yaml_guard.h"
 
 #include <fmt/format.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <opencv2/core/persistence.hpp>
+#include <thread>
 
 namespace silnet {
 
@@ -31,6 +38,37 @@ std::string YamlNestingProblem(std::string_view text) {
       --depth;
     }
   }
+  return {};
+}
+
+std::string YamlParserProblem(const std::string& text, std::chrono::milliseconds limit) {
+  const pid_t child = ::fork();
+  if (child < 0) return {};  // no process to spare (memory, limits): the parser tries anyway
+  if (child == 0) {
+    try {
+      cv::FileStorage storage(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+    } catch (...) {
+      // An error is an answer: the parser finished.
+    }
+    ::_exit(0);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  int status = 0;
+  for (;;) {
+    const pid_t done = ::waitpid(child, &status, WNOHANG);
+    if (done == child) break;
+    if (done < 0 && errno != EINTR) return {};  // not ours to judge: let the parser try
+    if (std::chrono::steady_clock::now() >= deadline) {
+      ::kill(child, SIGKILL);
+      while (::waitpid(child, nullptr, 0) < 0 && errno == EINTR) {
+      }
+      return fmt::format("OpenCV's YAML parser does not finish on it (stopped after {} s)",
+                         std::chrono::duration<double>(limit).count());
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  if (WIFSIGNALED(status))
+    return fmt::format("OpenCV's YAML parser crashes on it (signal {})", WTERMSIG(status));
   return {};
 }
 

@@ -1,8 +1,10 @@
 #pragma once
-// A guard for YAML text before OpenCV's FileStorage parses it: the parser recurses once per
-// nesting level, so a file of a few hundred kilobytes of brackets or dashes overflows the
-// stack and kills the process instead of failing with an error.
+// Guards for YAML text before OpenCV's FileStorage parses it. Its parser (OpenCV 4.6)
+// recurses once per nesting level, so a few hundred kilobytes of brackets or dashes overflow
+// the stack and kill the process; and it loops forever on some malformed files (24 bytes
+// were enough: a map indented by three or more spaces, then "-  -" and a blank line).
 
+#include <chrono>
 #include <string>
 #include <string_view>
 
@@ -14,8 +16,18 @@ namespace silnet {
 inline constexpr int kMaxYamlFlowDepth = 256;
 inline constexpr int kMaxYamlIndentColumns = 1024;
 
-// Empty if `text` nests within the limits above, else a reason for the user ("nests flow
-// collections 300 deep at line 3 ...").
+// Empty if `text` nests within the limits above, else a reason for the user ("nests '[' and
+// '{' more than 256 deep (line 3)").
 std::string YamlNestingProblem(std::string_view text);
+
+// How long OpenCV's parser may take on a file before it counts as looping forever: files of
+// hundreds of cameras parse in milliseconds.
+inline constexpr std::chrono::milliseconds kYamlParseLimit{5000};
+
+// Empty if OpenCV's parser finishes on `text` (with or without an error) within `limit`,
+// else why not: it crashed, or it was still running at the limit. It is tried in a child
+// process, killed at the limit, so a parser that crashes or loops forever costs this process
+// nothing. Empty too if no child can be started (the caller's parse is then unguarded).
+std::string YamlParserProblem(const std::string& text, std::chrono::milliseconds limit);
 
 }  // namespace silnet

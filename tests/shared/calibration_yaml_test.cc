@@ -130,6 +130,33 @@ TEST(CalibrationYaml, RejectsTwoCamerasWithOneId) {
   ExpectRejected(dir / "c.yaml", "camera 1 ('cam00'): a second camera with this id");
 }
 
+// OpenCV 4.6's parser loops forever on this 24-byte file (found by the input_file fuzz
+// target) and crashes on deep nesting: both are tried in a child process and refused.
+TEST(CalibrationYaml, RefusesFilesTheParserLoopsOnOrCrashesOn) {
+  const std::string loops = "%YAML:1.0\n    K: r\n-  -\n ";
+  const std::string problem = YamlParserProblem(loops, std::chrono::milliseconds(300));
+  EXPECT_NE(problem.find("does not finish on it (stopped after 0.3 s)"), std::string::npos)
+      << problem;
+  const std::string crashes =
+      "%YAML:1.0\n---\ncameras: " + std::string(200000, '[') + std::string(200000, ']') + "\n";
+  EXPECT_NE(YamlParserProblem(crashes, kYamlParseLimit).find("crashes on it (signal"),
+            std::string::npos);
+  // Valid and invalid files the parser answers: no problem.
+  EXPECT_EQ(YamlParserProblem("%YAML:1.0\n---\na: [1, 2]\n", kYamlParseLimit), "");
+  EXPECT_EQ(YamlParserProblem("%YAML:1.0\n---\na: [1, 2\n", kYamlParseLimit), "");
+
+  testing::TempDir dir;
+  WriteText(dir / "loops.yaml", loops);
+  try {
+    OpenYamlForReading(dir / "loops.yaml", std::chrono::milliseconds(300));
+    FAIL() << "opened a file the parser loops on";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not a silnet file: OpenCV's YAML parser does not finish"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // OpenCV's parser recurses once per nesting level: without the guard these files of a few
 // hundred kilobytes overflow the stack and kill the process.
 TEST(CalibrationYaml, RefusesNestingThatWouldOverflowTheParser) {
