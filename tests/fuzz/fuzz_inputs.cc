@@ -2,14 +2,18 @@
 
 #include <unistd.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <opencv2/imgproc.hpp>
 
 #include "shared/dds/sample_conversions.h"
+#include "shared/io/calibration_yaml.h"
+#include "shared/io/point_cloud_ply.h"
 #include "shared/io/session_log.h"
 #include "shared/io/session_log_reader.h"
 #include "shared/record/record_log.h"
@@ -34,6 +38,27 @@ void Require(bool condition, const char* what) {
     std::fprintf(stderr, "fuzz invariant broken: %s\n", what);
     std::abort();
   }
+}
+
+// Writes `bytes` to this process's scratch file named `name` and returns its path.
+std::filesystem::path WriteScratch(const std::string& name, std::span<const uint8_t> bytes) {
+  const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                     ("silnet-fuzz-" + std::to_string(::getpid()) + "-" + name);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
+  return path;
+}
+
+// The bytes of the file at `path`, which is then removed.
+std::vector<uint8_t> TakeFile(const std::filesystem::path& path) {
+  std::vector<uint8_t> bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  std::filesystem::remove(path);
+  return bytes;
 }
 
 template <class T>
@@ -147,14 +172,8 @@ int FuzzFrameSample(std::span<const uint8_t> bytes) {
 }
 
 int FuzzSessionLog(std::span<const uint8_t> bytes) {
-  static const std::filesystem::path path =
-      std::filesystem::temp_directory_path() /
-      ("silnet-fuzz-session-" + std::to_string(::getpid()) + kSessionLogExtension);
-  {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(bytes.data()),
-              static_cast<std::streamsize>(bytes.size()));
-  }
+  const std::filesystem::path path =
+      WriteScratch(std::string("session") + kSessionLogExtension, bytes);
   SessionReadReport report;
   std::vector<SessionFrames> sessions;
   try {
@@ -179,6 +198,38 @@ int FuzzSessionLog(std::span<const uint8_t> bytes) {
   Require(frames + report.duplicates + report.malformed <= report.records,
           "every frame, duplicate and malformed record was a record read");
   return static_cast<int>(frames);
+}
+
+int FuzzInputFile(std::span<const uint8_t> bytes) {
+  if (bytes.empty()) return 0;
+  const bool yaml = bytes[0] % 2 == 0;
+  const std::filesystem::path path =
+      WriteScratch(yaml ? "input.yaml" : "input.ply", bytes.subspan(1));
+  try {
+    if (!yaml) {
+      const OrientedPointCloud cloud = ReadPointCloudPly(path);
+      Require(cloud.points.size() == cloud.normals.size(), "one normal per point");
+      return 1;
+    }
+    const std::vector<CameraModel> cameras = LoadCamerasAtFrame(path, 1000);
+    for (size_t i = 0; i < cameras.size(); ++i) {
+      const CameraModel& c = cameras[i];
+      Require(!c.id.empty() && c.width > 0 && c.height > 0, "an id and a positive size");
+      Require(c.K(0, 0) > 0 && c.K(1, 1) > 0 && c.K(2, 2) == 1, "positive focal lengths");
+      Require(c.K.allFinite() && c.R.allFinite() && c.t.allFinite() && c.dist.allFinite(),
+              "finite matrices");
+      Require((c.R * c.R.transpose() - Eigen::Matrix3d::Identity()).norm() <= 1e-6 &&
+                  c.R.determinant() > 0,
+              "R a rotation");
+      Require(std::isfinite(c.fps) && c.fps > 0 && std::isfinite(c.time_offset),
+              "finite positive fps and a finite offset");
+      for (size_t j = 0; j < i; ++j)
+        Require(cameras[j].id != c.id, "distinct camera ids");
+    }
+    return 1;
+  } catch (const InputError&) {
+    return 0;  // refused with a reason, as promised
+  }
 }
 
 std::vector<std::vector<uint8_t>> FrameSampleSeeds() {
@@ -251,11 +302,50 @@ std::vector<std::vector<uint8_t>> SessionLogSeeds() {
     }
     append_hull(2, 0, samples[4]);  // a duplicate, last: the torn tail cuts it
   }
-  std::ifstream in(path, std::ios::binary);
-  std::vector<uint8_t> log((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::filesystem::remove(path);
+  const std::vector<uint8_t> log = TakeFile(path);
   std::vector<std::vector<uint8_t>> seeds{log};
   seeds.emplace_back(log.begin(), log.end() - 7);  // a torn tail
+  return seeds;
+}
+
+std::vector<std::vector<uint8_t>> InputFileSeeds() {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path();
+  const std::string stem = "silnet-fuzz-seed-" + std::to_string(::getpid());
+  std::vector<CameraModel> cameras(2);
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    CameraModel& c = cameras[i];
+    c.id = "cam0" + std::to_string(i);
+    c.width = 640;
+    c.height = 480;
+    c.K << 500, 0, 320, 0, 500, 240, 0, 0, 1;
+    c.dist << -0.1, 0.01, 0, 0, 0;
+    c.R = Eigen::AngleAxisd(0.5 * static_cast<double>(i), Eigen::Vector3d::UnitY()).matrix();
+    c.t = Eigen::Vector3d(0.1, 0, 4);
+    c.time_offset = 2.5;
+  }
+  CameraMoveRecord move{120, cameras[1]};
+  move.camera.t.x() += 0.3;
+  const std::filesystem::path yaml = dir / (stem + ".yaml");
+  {
+    cv::FileStorage storage(yaml.string(), cv::FileStorage::WRITE);
+    WriteCameras(storage, cameras);
+    WriteCameraMoves(storage, {move});
+  }
+  OrientedPointCloud cloud;
+  cloud.comments = {"a seed"};
+  for (int k = 0; k < 4; ++k) {
+    cloud.points.emplace_back(0.1f * static_cast<float>(k), 0, 1);
+    cloud.normals.emplace_back(0, 0, 1);
+  }
+  const std::filesystem::path ply = dir / (stem + ".ply");
+  WritePointCloudPly(ply, cloud);
+  std::vector<std::vector<uint8_t>> seeds;
+  for (const auto& [selector, path] : {std::pair{uint8_t{0}, yaml}, std::pair{uint8_t{1}, ply}}) {
+    std::vector<uint8_t> seed{selector};
+    const std::vector<uint8_t> bytes = TakeFile(path);
+    seed.insert(seed.end(), bytes.begin(), bytes.end());
+    seeds.push_back(std::move(seed));
+  }
   return seeds;
 }
 

@@ -30,9 +30,19 @@ int FuzzFrameSample(std::span<const uint8_t> bytes);
 // Returns the number of frames read (0 if the file was refused).
 int FuzzSessionLog(std::span<const uint8_t> bytes);
 
-// Valid inputs for each target: samples of hulls and contours of a few silhouettes, and a
-// session log with two sessions, a camera description, a duplicate and a torn tail.
+// The files users hand to silnet's jobs: the first byte picks the reader (even: a
+// calibration YAML read as at frame 1000, moves applied; odd: an oriented point-cloud PLY),
+// the rest is written to a scratch file and read. What is read must keep the readers'
+// promises (cameras with positive focal lengths, rotations, finite fields and distinct ids;
+// one normal per point). Returns 1 if the file was read, 0 if it was refused.
+int FuzzInputFile(std::span<const uint8_t> bytes);
+
+// Valid inputs for the first two targets: samples of hulls and contours of a few
+// silhouettes, and a session log with two sessions, a camera description, a duplicate and a
+// torn tail.
 std::vector<std::vector<uint8_t>> FrameSampleSeeds();
 std::vector<std::vector<uint8_t>> SessionLogSeeds();
+// A calibration with a camera move, and a small point cloud, each behind its selector byte.
+std::vector<std::vector<uint8_t>> InputFileSeeds();
 
 }  // namespace silnet::fuzz

@@ -83,5 +83,15 @@ TEST(FuzzRegression, SessionLogs) {
   std::printf("session_log regressions: %d\n", RunRegressions(&FuzzSessionLog, "session_log"));
 }
 
+TEST(FuzzRegression, InputFiles) {
+  const auto seeds = InputFileSeeds();
+  ASSERT_EQ(seeds.size(), 2u);
+  for (const auto& seed : seeds)
+    EXPECT_EQ(FuzzInputFile(seed), 1);
+  // Fewer mutations: each YAML file is parsed in a child process first (yaml_guard.h).
+  RunSeedsAndMutations(&FuzzInputFile, seeds, 500);
+  std::printf("input_file regressions: %d\n", RunRegressions(&FuzzInputFile, "input_file"));
+}
+
 }  // namespace
 }  // namespace silnet::fuzz

@@ -1,5 +1,5 @@
-// silnet-make-fuzz-seeds OUT: writes the fuzz targets' seed corpora, OUT/frame_sample/ and
-// OUT/session_log/, from the real encoders and the real log writer.
+// silnet-make-fuzz-seeds OUT: writes the fuzz targets' seed corpora, OUT/frame_sample/,
+// OUT/session_log/ and OUT/input_file/, from the real encoders and writers.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -27,5 +27,6 @@ int main(int argc, char** argv) {
   const std::filesystem::path out = argv[1];
   WriteCorpus(out / "frame_sample", silnet::fuzz::FrameSampleSeeds());
   WriteCorpus(out / "session_log", silnet::fuzz::SessionLogSeeds());
+  WriteCorpus(out / "input_file", silnet::fuzz::InputFileSeeds());
   return 0;
 }
