@@ -132,6 +132,7 @@ std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::str
     CameraModel c;
     if (node["id"].empty() || !node["id"].isString()) throw InputError(where + ": missing 'id'");
     c.id = static_cast<std::string>(node["id"]);
+    if (c.id.empty()) throw InputError(where + ": 'id' is empty");
     where += " ('" + c.id + "')";
     c.width = ReadPositiveInt(node, "image_width", where);
     c.height = ReadPositiveInt(node, "image_height", where);

@@ -97,6 +97,7 @@ TEST(CalibrationYaml, RejectsMissingAndMalformedFilesWithReasons) {
   EXPECT_EQ(LoadCalibration(camera_file("id", "cam00")).size(), 1u);
   ExpectRejected(camera_file("image_width", "-640"), "image_width");
   ExpectRejected(camera_file("id", ""), "missing 'id'");
+  ExpectRejected(camera_file("id", "\"\""), "'id' is empty");
   ExpectRejected(
       camera_file("K", "!!opencv-matrix { rows: 2, cols: 3, dt: d, data: [1, 0, 0, 0, 1, 0] }"),
       "'K' has 6 entries");
