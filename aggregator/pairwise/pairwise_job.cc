@@ -49,13 +49,9 @@ std::string AlternativeCsvName(const std::string& pair, int k) {
 // A 3x3 F from a pairs.yaml node; throws InputError naming the pair otherwise.
 Eigen::Matrix3d ReadF(const cv::FileNode& node, const std::filesystem::path& path,
                       const std::string& pair) {
-  cv::Mat f;
-  node["F"] >> f;
-  if (f.rows != 3 || f.cols != 3)
-    throw InputError(path.string() + ": pair " + pair + " has no 3x3 F");
-  Eigen::Matrix3d fe;
-  cv::cv2eigen(f, fe);
-  return fe;
+  const std::vector<double> f =
+      ReadYamlMatrixEntries(node, "F", path.string() + ": pair " + pair, {9});
+  return Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(f.data());
 }
 
 // Writes correspondences as frame_i,frame_j,x_i,y_i,x_j,y_j (x_j at `offset`).
@@ -101,6 +97,8 @@ PairCandidate ReadCandidate(const cv::FileNode& node, const std::filesystem::pat
   PairCandidate c;
   c.F = ReadF(node, path, pair);
   c.offset = node["offset"];
+  if (!std::isfinite(c.offset))
+    throw InputError(path.string() + ": pair " + pair + " has a non-finite offset");
   c.model = EpipolarModel::FromFundamental(c.F, c.offset);
   c.offset_sigma = node["offset_sigma"];
   c.inliers = static_cast<size_t>(static_cast<int>(node["inliers"]));
@@ -108,6 +106,43 @@ PairCandidate ReadCandidate(const cv::FileNode& node, const std::filesystem::pat
   c.support = static_cast<size_t>(static_cast<int>(node["agreeing"]));
   if (!csv.empty() && c.inliers > 0) c.inlier_matches = ReadMatchesCsv(csv, path);
   return c;
+}
+
+// The pairs of an open pairs.yaml (ReadPairsYaml).
+std::vector<PairwiseResult> ReadPairs(const cv::FileStorage& fs, const std::filesystem::path& path,
+                                      const std::filesystem::path& matches_dir) {
+  const cv::FileNode pairs = fs["pairs"];
+  if (pairs.empty() || !pairs.isSeq()) throw InputError(path.string() + ": no 'pairs' sequence");
+  if (!matches_dir.empty() && !std::filesystem::is_directory(matches_dir)) {
+    throw InputError(matches_dir.string() +
+                     ": missing; the pairs' frontier correspondences are needed with pairs.yaml "
+                     "(reuse a whole `pairs` output folder)");
+  }
+  std::vector<PairwiseResult> out;
+  for (const cv::FileNode& node : pairs) {
+    PairwiseResult p;
+    p.camera_i = static_cast<std::string>(node["i"]);
+    p.camera_j = static_cast<std::string>(node["j"]);
+    const std::string status = node["status"];
+    p.status = status == "ok"           ? PairStatus::kOk
+               : status == "degenerate" ? PairStatus::kDegenerate
+               : status == "ambiguous"  ? PairStatus::kAmbiguous
+                                        : PairStatus::kFailed;
+    p.reason = static_cast<std::string>(node["reason"]);
+    const std::string name = p.camera_i + "-" + p.camera_j;
+    const auto csv = [&](const std::string& file) {
+      return matches_dir.empty() ? std::filesystem::path() : matches_dir / file;
+    };
+    p.Adopt(ReadCandidate(node, path, name, csv(name + ".csv")));
+    p.spread_score = node["spread_score"];
+    p.epipole_inside_fraction = node["epipole_inside_fraction"];
+    p.best_local_support = node["best_local_support"];
+    int k = 0;
+    for (const cv::FileNode& a : node["alternatives"])
+      p.alternatives.push_back(ReadCandidate(a, path, name, csv(AlternativeCsvName(name, k++))));
+    out.push_back(std::move(p));
+  }
+  return out;
 }
 
 }  // namespace
@@ -198,38 +233,7 @@ void WritePairsYaml(const std::filesystem::path& path, const PairwiseJobResult& 
 std::vector<PairwiseResult> ReadPairsYaml(const std::filesystem::path& path,
                                           const std::filesystem::path& matches_dir) {
   cv::FileStorage fs = OpenYamlForReading(path);
-  const cv::FileNode pairs = fs["pairs"];
-  if (pairs.empty() || !pairs.isSeq()) throw InputError(path.string() + ": no 'pairs' sequence");
-  if (!matches_dir.empty() && !std::filesystem::is_directory(matches_dir)) {
-    throw InputError(matches_dir.string() +
-                     ": missing; the pairs' frontier correspondences are needed with pairs.yaml "
-                     "(reuse a whole `pairs` output folder)");
-  }
-  std::vector<PairwiseResult> out;
-  for (const cv::FileNode& node : pairs) {
-    PairwiseResult p;
-    p.camera_i = static_cast<std::string>(node["i"]);
-    p.camera_j = static_cast<std::string>(node["j"]);
-    const std::string status = node["status"];
-    p.status = status == "ok"           ? PairStatus::kOk
-               : status == "degenerate" ? PairStatus::kDegenerate
-               : status == "ambiguous"  ? PairStatus::kAmbiguous
-                                        : PairStatus::kFailed;
-    p.reason = static_cast<std::string>(node["reason"]);
-    const std::string name = p.camera_i + "-" + p.camera_j;
-    const auto csv = [&](const std::string& file) {
-      return matches_dir.empty() ? std::filesystem::path() : matches_dir / file;
-    };
-    p.Adopt(ReadCandidate(node, path, name, csv(name + ".csv")));
-    p.spread_score = node["spread_score"];
-    p.epipole_inside_fraction = node["epipole_inside_fraction"];
-    p.best_local_support = node["best_local_support"];
-    int k = 0;
-    for (const cv::FileNode& a : node["alternatives"])
-      p.alternatives.push_back(ReadCandidate(a, path, name, csv(AlternativeCsvName(name, k++))));
-    out.push_back(std::move(p));
-  }
-  return out;
+  return ReadYamlGuarded(path, "malformed", [&] { return ReadPairs(fs, path, matches_dir); });
 }
 
 void WriteMatchesCsv(const std::filesystem::path& dir, const PairwiseJobResult& result) {

@@ -16,12 +16,46 @@ namespace {
 
 constexpr int kCalibrationVersion = 1;
 
-// Reads a matrix field as a flat vector of doubles; throws InputError if it is missing,
-// not a one-channel matrix, has non-finite entries or has (or declares) a size not in
-// `allowed_sizes`.
-std::vector<double> ReadMatrixEntries(const cv::FileNode& node, const char* name,
-                                      const std::string& where,
-                                      std::initializer_list<int64_t> allowed_sizes) {
+template <int Rows, int Cols>
+Eigen::Matrix<double, Rows, Cols> ReadMatrix(const cv::FileNode& node, const char* name,
+                                             const std::string& where) {
+  const std::vector<double> values = ReadYamlMatrixEntries(node, name, where, {Rows * Cols});
+  using Stored = Eigen::Matrix<double, Rows, Cols, Cols == 1 ? Eigen::ColMajor : Eigen::RowMajor>;
+  return Eigen::Map<const Stored>(values.data());
+}
+
+int ReadPositiveInt(const cv::FileNode& node, const char* name, const std::string& where) {
+  const cv::FileNode field = node[name];
+  if (field.empty() || !field.isInt()) {
+    throw InputError(where + ": missing integer '" + name + "'");
+  }
+  const int value = static_cast<int>(field);
+  if (value <= 0) throw InputError(where + ": '" + name + "' must be positive");
+  return value;
+}
+
+// An optional number field, `fallback` when absent; throws InputError if it is not a number.
+double ReadReal(const cv::FileNode& node, const char* name, double fallback,
+                const std::string& where) {
+  const cv::FileNode field = node[name];
+  if (field.empty()) return fallback;
+  if (!field.isReal() && !field.isInt())
+    throw InputError(where + ": '" + name + "' must be a number");
+  return static_cast<double>(field);
+}
+
+template <class Derived>
+cv::Mat ToMat(const Eigen::MatrixBase<Derived>& m) {
+  cv::Mat out;
+  cv::eigen2cv(Eigen::MatrixXd(m), out);
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> ReadYamlMatrixEntries(const cv::FileNode& node, const char* name,
+                                          const std::string& where,
+                                          std::initializer_list<int64_t> allowed_sizes) {
   const cv::FileNode field = node[name];
   if (field.empty()) throw InputError(where + ": missing '" + name + "'");
   const auto check_size = [&](int64_t total) {
@@ -54,58 +88,6 @@ std::vector<double> ReadMatrixEntries(const cv::FileNode& node, const char* name
   return values;
 }
 
-template <int Rows, int Cols>
-Eigen::Matrix<double, Rows, Cols> ReadMatrix(const cv::FileNode& node, const char* name,
-                                             const std::string& where) {
-  const std::vector<double> values = ReadMatrixEntries(node, name, where, {Rows * Cols});
-  using Stored = Eigen::Matrix<double, Rows, Cols, Cols == 1 ? Eigen::ColMajor : Eigen::RowMajor>;
-  return Eigen::Map<const Stored>(values.data());
-}
-
-int ReadPositiveInt(const cv::FileNode& node, const char* name, const std::string& where) {
-  const cv::FileNode field = node[name];
-  if (field.empty() || !field.isInt()) {
-    throw InputError(where + ": missing integer '" + name + "'");
-  }
-  const int value = static_cast<int>(field);
-  if (value <= 0) throw InputError(where + ": '" + name + "' must be positive");
-  return value;
-}
-
-// An optional number field, `fallback` when absent; throws InputError if it is not a number.
-double ReadReal(const cv::FileNode& node, const char* name, double fallback,
-                const std::string& where) {
-  const cv::FileNode field = node[name];
-  if (field.empty()) return fallback;
-  if (!field.isReal() && !field.isInt())
-    throw InputError(where + ": '" + name + "' must be a number");
-  return static_cast<double>(field);
-}
-
-// read(), with what OpenCV's parser throws (its own exceptions, and the standard library's
-// for lengths or allocations a malformed file asks for) turned into InputError naming `path`.
-template <class Read>
-auto ReadGuarded(const std::filesystem::path& path, const char* what, Read read) {
-  try {
-    return read();
-  } catch (const InputError&) {
-    throw;
-  } catch (const cv::Exception& e) {
-    throw InputError(path.string() + ": " + what + " (" + e.err + ")");
-  } catch (const std::exception& e) {
-    throw InputError(path.string() + ": " + what + " (" + e.what() + ")");
-  }
-}
-
-template <class Derived>
-cv::Mat ToMat(const Eigen::MatrixBase<Derived>& m) {
-  cv::Mat out;
-  cv::eigen2cv(Eigen::MatrixXd(m), out);
-  return out;
-}
-
-}  // namespace
-
 void WriteCameras(cv::FileStorage& storage, const std::vector<CameraModel>& cameras) {
   storage << "cameras"
           << "[";
@@ -137,7 +119,7 @@ std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::str
     c.width = ReadPositiveInt(node, "image_width", where);
     c.height = ReadPositiveInt(node, "image_height", where);
     c.K = ReadMatrix<3, 3>(node, "K", where);
-    const std::vector<double> dist = ReadMatrixEntries(node, "dist", where, {5, 4});
+    const std::vector<double> dist = ReadYamlMatrixEntries(node, "dist", where, {5, 4});
     for (size_t k = 0; k < dist.size(); ++k)
       c.dist[static_cast<Eigen::Index>(k)] = dist[k];
     c.R = ReadMatrix<3, 3>(node, "R", where);
@@ -173,7 +155,7 @@ cv::FileStorage OpenYamlForReading(const std::filesystem::path& path,
   std::string problem = YamlNestingProblem(text.view());
   if (problem.empty()) problem = YamlParserProblem(text.str(), parse_limit);
   if (!problem.empty()) throw InputError(path.string() + ": not a silnet file: " + problem);
-  cv::FileStorage storage = ReadGuarded(path, "not valid YAML", [&] {
+  cv::FileStorage storage = ReadYamlGuarded(path, "not valid YAML", [&] {
     return cv::FileStorage(text.str(), cv::FileStorage::READ | cv::FileStorage::MEMORY);
   });
   if (!storage.isOpened()) throw InputError(path.string() + ": cannot open as YAML");
@@ -189,8 +171,8 @@ void SaveCalibration(const std::filesystem::path& path, const std::vector<Camera
 
 std::vector<CameraModel> LoadCalibration(const std::filesystem::path& path) {
   cv::FileStorage storage = OpenYamlForReading(path);
-  return ReadGuarded(path, "malformed",
-                     [&] { return ReadCameras(storage["cameras"], path.string()); });
+  return ReadYamlGuarded(path, "malformed",
+                         [&] { return ReadCameras(storage["cameras"], path.string()); });
 }
 
 void WriteCameraMoves(cv::FileStorage& storage, const std::vector<CameraMoveRecord>& moves) {
@@ -207,7 +189,7 @@ void WriteCameraMoves(cv::FileStorage& storage, const std::vector<CameraMoveReco
 
 std::vector<CameraModel> LoadCamerasAtFrame(const std::filesystem::path& path, int frame) {
   cv::FileStorage storage = OpenYamlForReading(path);
-  return ReadGuarded(path, "malformed", [&] {
+  return ReadYamlGuarded(path, "malformed", [&] {
     std::vector<CameraModel> cameras = ReadCameras(storage["cameras"], path.string());
     const cv::FileNode moves = storage["camera_moves"];
     if (moves.empty()) return cameras;

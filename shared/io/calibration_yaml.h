@@ -3,7 +3,9 @@
 // entries hold id, image_width, image_height, K, dist, R, t (x_cam = R X + t), fps and
 // time_offset (frames). calibration.yaml and ground_truth.yaml share this block.
 
+#include <cstdint>
 #include <filesystem>
+#include <initializer_list>
 #include <opencv2/core/persistence.hpp>
 #include <string>
 #include <vector>
@@ -12,6 +14,13 @@
 #include "shared/io/yaml_guard.h"
 
 namespace silnet {
+
+// Reads matrix field `name` of `node` as a flat vector of doubles; throws InputError naming
+// `where` if it is missing, not a one-channel matrix, has non-finite entries or has a size
+// not in `allowed_sizes` (a size the field declares is checked before OpenCV allocates it).
+std::vector<double> ReadYamlMatrixEntries(const cv::FileNode& node, const char* name,
+                                          const std::string& where,
+                                          std::initializer_list<int64_t> allowed_sizes);
 
 // Writes the `cameras` sequence into an open FileStorage.
 void WriteCameras(cv::FileStorage& storage, const std::vector<CameraModel>& cameras);

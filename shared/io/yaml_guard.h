@@ -5,8 +5,12 @@
 // were enough: a map indented by three or more spaces, then "-  -" and a blank line).
 
 #include <chrono>
+#include <filesystem>
+#include <opencv2/core.hpp>
 #include <string>
 #include <string_view>
+
+#include "shared/util/check.h"
 
 namespace silnet {
 
@@ -29,5 +33,21 @@ inline constexpr std::chrono::milliseconds kYamlParseLimit{5000};
 // process, killed at the limit, so a parser that crashes or loops forever costs this process
 // nothing. Empty too if no child can be started (the caller's parse is then unguarded).
 std::string YamlParserProblem(const std::string& text, std::chrono::milliseconds limit);
+
+// read(), with what OpenCV's parser and nodes throw (their own exceptions, and the standard
+// library's for lengths or allocations a malformed file asks for) turned into InputError
+// "`path`: `what` (reason)"; InputError passes unchanged.
+template <class Read>
+auto ReadYamlGuarded(const std::filesystem::path& path, const char* what, Read read) {
+  try {
+    return read();
+  } catch (const InputError&) {
+    throw;
+  } catch (const cv::Exception& e) {
+    throw InputError(path.string() + ": " + what + " (" + e.err + ")");
+  } catch (const std::exception& e) {
+    throw InputError(path.string() + ": " + what + " (" + e.what() + ")");
+  }
+}
 
 }  // namespace silnet

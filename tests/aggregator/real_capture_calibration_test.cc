@@ -316,5 +316,37 @@ TEST(PairsYaml, ReusingPairsWithoutTheirMatchesIsAClearError) {
   EXPECT_EQ(ReadPairsYaml(dir / "pairs.yaml", dir / "matches").front().inlier_matches.size(), 1u);
 }
 
+// A pairs.yaml edited or cut short is an InputError naming the file, not an OpenCV assertion
+// or a 16 GB F.
+TEST(PairsYaml, MalformedPairsAreClearErrors) {
+  testing::TempDir dir;
+  const auto refused = [&](const std::string& text, const std::string& fragment) {
+    std::ofstream(dir / "pairs.yaml") << "%YAML:1.0\n---\n" << text;
+    try {
+      ReadPairsYaml(dir / "pairs.yaml", {});
+      ADD_FAILURE() << "accepted " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  const std::string f =
+      "F: !!opencv-matrix { rows: 3, cols: 3, dt: d, data: [0, 0, 1, 0, 0, 0, -1, 0, 0] }";
+  refused("pairs: [ 1 ]\n", "pairs.yaml: malformed (");
+  refused("pairs: [ { i: a, j: b, status: ok, F: [1, 2] } ]\n", "pair a-b: 'F'");
+  refused(
+      "pairs: [ { i: a, j: b, status: ok, F: !!opencv-matrix { rows: 60000, cols: 60000, dt: d, "
+      "data: [1] } } ]\n",
+      "pair a-b: 'F' has 3600000000 entries, expected 9");
+  refused("pairs: [ { i: a, j: b, status: ok, " + f + ", offset: .NaN } ]\n",
+          "pair a-b has a non-finite offset");
+  std::ofstream(dir / "pairs.yaml")
+      << "%YAML:1.0\n---\npairs: [ { i: a, j: b, status: ok, " << f << ", offset: 2.5 } ]\n";
+  const std::vector<PairwiseResult> pairs = ReadPairsYaml(dir / "pairs.yaml", {});
+  ASSERT_EQ(pairs.size(), 1u);
+  EXPECT_EQ(pairs[0].F(0, 2), 1.0);
+  EXPECT_EQ(pairs[0].F(2, 0), -1.0);
+  EXPECT_EQ(pairs[0].offset, 2.5);
+}
+
 }  // namespace
 }  // namespace silnet::aggregator
