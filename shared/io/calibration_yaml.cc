@@ -149,14 +149,15 @@ cv::FileStorage OpenYamlForReading(const std::filesystem::path& path,
                                    std::chrono::milliseconds parse_limit) {
   if (!std::filesystem::exists(path)) throw InputError(path.string() + ": no such file");
   std::ifstream file(path, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
+  std::ostringstream buffer;
+  buffer << file.rdbuf();
   if (!file) throw InputError(path.string() + ": cannot read");
-  std::string problem = YamlNestingProblem(text.view());
-  if (problem.empty()) problem = YamlParserProblem(text.str(), parse_limit);
+  const std::string text = std::move(buffer).str();
+  std::string problem = YamlNestingProblem(text);
+  if (problem.empty()) problem = YamlParserProblem(text, parse_limit);
   if (!problem.empty()) throw InputError(path.string() + ": not a silnet file: " + problem);
   cv::FileStorage storage = ReadYamlGuarded(path, "not valid YAML", [&] {
-    return cv::FileStorage(text.str(), cv::FileStorage::READ | cv::FileStorage::MEMORY);
+    return cv::FileStorage(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
   });
   if (!storage.isOpened()) throw InputError(path.string() + ": cannot open as YAML");
   return storage;
