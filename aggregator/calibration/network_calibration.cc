@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <numbers>
 
 #include "aggregator/calibration/ambiguity_resolution.h"
 #include "aggregator/calibration/calibration_gates.h"
@@ -165,6 +167,17 @@ ViewGraph RematchedGraph(const MetricScene& scene,
     if (!link.matches.empty()) graph.Add(std::move(link));
   }
   return graph;
+}
+
+// The largest angle, degrees, by which a camera present in `scene` turned from `before`.
+double LargestRotationChange(const std::vector<CameraModel>& before, const MetricScene& scene) {
+  double largest = 0.0;
+  for (size_t c = 0; c < before.size(); ++c) {
+    if (!scene.present[c]) continue;
+    const Eigen::AngleAxisd turn(before[c].R.transpose() * scene.cameras[c].R);
+    largest = std::max(largest, turn.angle() * 180.0 / std::numbers::pi);
+  }
+  return largest;
 }
 
 // Makes each pair's candidate that agreed with the global start its solution; usable pairs
@@ -339,6 +352,10 @@ std::string CalibrationOptions::Validate() const {
     return "radial distortion terms must be 0, 1 or 2";
   if (!(rig_radius > 0.0)) return "the rig radius must be positive";
   if (rematch_rounds < 0) return "re-matching rounds must not be negative";
+  if (max_rematch_rounds < rematch_rounds)
+    return "the most re-matching rounds must not be fewer than the least";
+  if (!(rematch_settled_deg >= 0.0))
+    return "the rotation change that settles re-matching must not be negative";
   if (!(distortion_gain > 0.0 && distortion_gain < 1.0))
     return "distortion_gain must lie between 0 and 1";
   if (!(free_principal_max_sigma_px >= 0.0))
@@ -516,9 +533,12 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
   if (focal_searched) {
     refine_options.intrinsics.fix_principal_point = true;
     refine_options.rematch_rounds = std::max(refine_options.rematch_rounds, 3);
+    refine_options.max_rematch_rounds =
+        std::max(refine_options.max_rematch_rounds, refine_options.rematch_rounds);
   }
-  if (progress)
-    progress->Restart("bundle adjustment", 1 + static_cast<size_t>(refine_options.rematch_rounds));
+  const int most_rounds =
+      refine_options.rematch_rounds == 0 ? 0 : refine_options.max_rematch_rounds;
+  if (progress) progress->Restart("bundle adjustment", 1 + static_cast<size_t>(most_rounds));
   MetricRefinement refine(refine_options, &out);
   // The uncertainty is that of the principal points free unless the user fixed them: held at
   // the image centres after a focal length search, they are an assumption, not a measurement.
@@ -534,8 +554,7 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
     used[p] = link != nullptr && scene->present[link->i] && scene->present[link->j];
   }
   if (sequences != nullptr) {
-    for (int round = 0;
-         round < refine_options.rematch_rounds && !(progress && progress->cancelled()); ++round) {
+    for (int round = 0; round < most_rounds && !(progress && progress->cancelled()); ++round) {
       // After a focal length search the principal points were held at the image centres
       // while the cameras settled; the last round estimates them where the data hold them.
       if (focal_searched && round + 1 == refine_options.rematch_rounds &&
@@ -560,12 +579,23 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
       const ViewGraph rematched = RematchedGraph(*scene, undistorted, out.sync);
       spdlog::info("re-matched frontier points of {} pairs ({:.1f} s)", rematched.links().size(),
                    SecondsSince(start));
+      const std::vector<CameraModel> before = scene->cameras;
       refine.Adjust(rematched, &*scene, fmt::format("re-matched bundle adjustment {}", round + 1));
       for (size_t p = 0; p < pairs.size(); ++p) {
         used[p] = used[p] || rematched.Find(CameraIndex(cameras, pairs[p].camera_i),
                                             CameraIndex(cameras, pairs[p].camera_j)) != nullptr;
       }
       if (progress) progress->Advance();
+      const double turned = LargestRotationChange(before, *scene);
+      const bool settled = turned < refine_options.rematch_settled_deg;
+      if (round + 1 < refine_options.rematch_rounds) continue;
+      if (!settled && round + 1 < most_rounds) continue;
+      const std::string verdict =
+          fmt::format("{} after {} rounds: the last turned a camera by {:.3f} deg at most",
+                      settled ? "settled" : "stopped unsettled", round + 1, turned);
+      spdlog::log(settled ? spdlog::level::info : spdlog::level::warn, "re-matching {}", verdict);
+      out.stages.push_back({"re-matching", 0.0, 0.0, verdict});
+      break;
     }
   }
   NormalizeGauge(&*scene, options.rig_radius);

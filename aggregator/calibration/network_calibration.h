@@ -44,7 +44,14 @@ struct CalibrationOptions {
   SyncOptions sync;
   BundleOptions bundle;                 // the Euclidean adjustments
   size_t final_tracks_per_link = 1500;  // correspondences per pair in the metric stages
-  int rematch_rounds = 1;               // re-matching rounds when silhouettes are given
+  // Re-matching rounds when silhouettes are given: at least rematch_rounds, then more while
+  // the last round still turned some camera by rematch_settled_deg or more, up to
+  // max_rematch_rounds. On the Utrecht capture a round from a rough start moves the cameras
+  // by 0.1-0.2 deg for two or three rounds; simulated rings settle after one. rematch_rounds
+  // 0 turns re-matching off.
+  int rematch_rounds = 1;
+  int max_rematch_rounds = 4;
+  double rematch_settled_deg = 0.02;
   // With intrinsics.radial_terms 0 and unknown intrinsics: the first Euclidean adjustment is
   // tried again with k1 and k2, and they are estimated from then on if they bring the rms
   // reprojection error down by more than distortion_gain (a share of it). Lenses without

@@ -21,7 +21,7 @@ struct CalibrateArgs {
   int max_frames = 0;
   PairwiseArgs pairwise;
   bool free_aspect = false, fix_principal_point = false, no_report = false;
-  int rematch_rounds = 1;
+  int rematch_rounds = 1, max_rematch_rounds = CalibrationOptions{}.max_rematch_rounds;
   double rig_radius = 1.0, principal_point_sigma = 0.0;
   bool publish = false, loopback = false;
   double linger_s = 10.0;
@@ -102,6 +102,7 @@ int RunCalibrate(const CalibrateArgs& args) {
   config.calibration.intrinsics.principal_point_sigma_px = args.principal_point_sigma;
   ApplyDistortionSetting(args.distortion, &config.calibration);
   config.calibration.rematch_rounds = args.rematch_rounds;
+  config.calibration.max_rematch_rounds = std::max(args.max_rematch_rounds, args.rematch_rounds);
   config.calibration.rig_radius = args.rig_radius;
   config.calibration.bundle.threads =
       static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -144,7 +145,14 @@ Command AddCalibrateCommand(CLI::App& app) {
       ->capture_default_str();
   AddDistortionOption(cmd, &args->distortion);
   cmd->add_option("--rematch-rounds", args->rematch_rounds,
-                  "rounds of frontier re-matching under the calibration")
+                  "rounds of frontier re-matching under the calibration, at least (0: none)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--max-rematch-rounds", args->max_rematch_rounds,
+                  fmt::format("further rounds while the last still turned a camera by {} deg "
+                              "or more, up to this many in all",
+                              CalibrationOptions{}.rematch_settled_deg))
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--rig-radius", args->rig_radius,
                   "world scale: mean distance of the cameras from their centroid")

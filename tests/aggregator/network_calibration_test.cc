@@ -109,13 +109,17 @@ void ExpectAcceptance(const NetworkCalibration& calibration,
 // Principal points up to 3 % of the image off centre, no prior on them.
 constexpr CaptureKey kRing8{8, sim::RigLayout::kRing, 0.0, 600, 1, 0.03};
 
-// The detail of the calibration's "radial distortion" stage (what detect_distortion decided),
-// or "none" without it.
-std::string DistortionVerdict(const NetworkCalibration& calibration) {
+// The detail of the calibration's stage `name` (e.g. "radial distortion": what
+// detect_distortion decided), or "none" without it.
+std::string StageDetail(const NetworkCalibration& calibration, const std::string& name) {
   for (const CalibrationStage& stage : calibration.stages) {
-    if (stage.name == "radial distortion") return stage.detail;
+    if (stage.name == name) return stage.detail;
   }
   return "none";
+}
+
+std::string DistortionVerdict(const NetworkCalibration& calibration) {
+  return StageDetail(calibration, "radial distortion");
 }
 
 // The command line looks for lens distortion by default: lenses without any get none.
@@ -133,7 +137,13 @@ TEST(NetworkCalibration, EightCameraRing) {
 
 TEST(NetworkCalibration, EightCameraDome) {
   const auto& estimated = Estimated({8, sim::RigLayout::kDome, 0.0, 600, 4, 0.03});
-  ExpectAcceptance(Calibrate(estimated, {}), estimated.capture.cameras);
+  const NetworkCalibration calibration = Calibrate(estimated, {});
+  ExpectAcceptance(calibration, estimated.capture.cameras);
+  // Started by self-calibration, a simulated rig settles in the second round of re-matching
+  // (measured: it turns no camera by more than 0.015 deg on nine of the ten 3 %-spread
+  // captures; the tenth started from the focal length search).
+  EXPECT_TRUE(StageDetail(calibration, "re-matching").starts_with("settled after 2 rounds"))
+      << StageDetail(calibration, "re-matching");
 }
 
 TEST(NetworkCalibration, SixteenCameraRing) {
@@ -229,6 +239,13 @@ TEST(NetworkCalibration, RejectsInvalidOptions) {
   EXPECT_THROW(Calibrate(estimated, options), silnet::InputError);
   options = {};
   options.intrinsics.radial_terms = 3;
+  EXPECT_THROW(Calibrate(estimated, options), silnet::InputError);
+  options = {};
+  options.rematch_rounds = 3;
+  options.max_rematch_rounds = 2;
+  EXPECT_THROW(Calibrate(estimated, options), silnet::InputError);
+  options = {};
+  options.rematch_settled_deg = -0.1;
   EXPECT_THROW(Calibrate(estimated, options), silnet::InputError);
 }
 
