@@ -47,8 +47,8 @@ struct CalibrationOptions {
   // Re-matching rounds when silhouettes are given: at least rematch_rounds, then more while
   // the last round still turned some camera by rematch_settled_deg or more, up to
   // max_rematch_rounds. On the Utrecht capture a round from a rough start moves the cameras
-  // by 0.1-0.2 deg for two or three rounds; simulated rings settle after one. rematch_rounds
-  // 0 turns re-matching off.
+  // by 0.1-0.2 deg for two or three rounds; simulated rigs are settled after one (the second
+  // turns no camera by 0.015 deg). rematch_rounds 0 turns re-matching off.
   int rematch_rounds = 1;
   int max_rematch_rounds = 4;
   double rematch_settled_deg = 0.02;

@@ -180,7 +180,7 @@ TEST(RealCaptureCalibration, UtrechtWithCheckerboardIntrinsics) {
   std::printf("  rotation against the capture's calibration: median %.3f deg, max %.3f deg\n",
               e.median_rotation_deg, e.max_rotation_deg);
   // Measured 0.98 / 1.44 deg here (seed 1); 0.83-0.90 / 1.07-1.44 deg over seeds 1-10
-  // (with a single round of re-matching 1.16 / 1.76 deg, and 0.78-1.25 / 1.10-1.83 over the
+  // (with a single round of re-matching 1.16 / 1.76 deg, and 0.78-1.25 / 1.06-1.83 over the
   // seeds). The capture's own calibration explains the tangents 1.2-4.2x worse (9-12 px median
   // on the pairs with cam4) than silnet's, so most of this is its error.
   EXPECT_LT(e.median_rotation_deg, 1.1);
