@@ -7,6 +7,7 @@
 #include <chrono>
 #include <map>
 #include <numbers>
+#include <optional>
 
 #include "aggregator/calibration/ambiguity_resolution.h"
 #include "aggregator/calibration/calibration_gates.h"
@@ -345,6 +346,150 @@ void AddUncertainty(const MetricScene& scene, const IntrinsicsModel& model,
   out->stages.push_back({"camera uncertainty", 0.0, SecondsSince(start), detail});
 }
 
+// A metric starting point: the scene, the view graph and pairs it was built from, and how
+// each camera joined it (or why not).
+struct MetricStart {
+  MetricScene scene;
+  ViewGraph graph;
+  std::vector<PairwiseResult> pairs;
+  std::vector<std::string> added_by;
+  std::vector<std::string> reasons;
+  bool focal_searched = false;
+};
+
+// The start from a common focal length (square pixels, principal points at the image
+// centres), recorded as a stage of `out`; nullopt if no focal length in the range gives one.
+std::optional<MetricStart> FocalSearchStart(const std::vector<CameraModel>& cameras,
+                                            std::vector<PairwiseResult> pairs,
+                                            const CalibrationOptions& options,
+                                            NetworkCalibration* out) {
+  const auto start = Clock::now();
+  FocalSearchResult search = SearchCommonFocal(cameras, pairs, options.focal, options.global);
+  out->stages.push_back({"focal length search", 0.0, SecondsSince(start), search.detail});
+  spdlog::info("focal length search: {}", search.detail);
+  if (!search.ok) return std::nullopt;
+  ApplyGlobalChoice(search.start, &pairs);
+  std::vector<std::string> ids;
+  for (const CameraModel& c : cameras)
+    ids.push_back(c.id);
+  ViewGraph graph = BuildViewGraph(ids, pairs);
+  PoseChain chain = SceneFromGlobalStart(search.start, graph, search.cameras, options.known);
+  for (std::string& how : chain.added_by) {
+    if (!how.empty()) how += " (focal length search)";
+  }
+  return MetricStart{std::move(chain.scene),    std::move(graph),         std::move(pairs),
+                     std::move(chain.added_by), std::move(chain.reasons), true};
+}
+
+// Takes `metric` to the calibration in `out`: bundle adjustment, re-matching rounds, gauge,
+// uncertainty, motion and sanity gates, pair checks. Returns how many cameras the sanity
+// gates rejected.
+size_t RefineFromStart(MetricStart metric, const std::vector<CameraModel>& cameras,
+                       const std::vector<SilhouetteSequence>* sequences,
+                       const CalibrationOptions& options, Progress* progress,
+                       NetworkCalibration* out) {
+  const size_t n = cameras.size();
+  for (size_t c = 0; c < n; ++c) {
+    out->placement[c].added_by = metric.added_by[c];
+    out->placement[c].reason = metric.reasons[c];
+  }
+  std::vector<bool> used(metric.pairs.size(), false);
+  if (options.intrinsics.fix_principal_point && !options.known_intrinsics) {
+    // A principal point held fixed is the image centre, not the self-calibration's guess.
+    for (size_t c = 0; c < n; ++c) {
+      if (!metric.scene.present[c]) continue;
+      metric.scene.cameras[c].K(0, 2) = 0.5 * (metric.scene.cameras[c].width - 1);
+      metric.scene.cameras[c].K(1, 2) = 0.5 * (metric.scene.cameras[c].height - 1);
+    }
+  }
+  // Without self-calibration nothing tells where the principal points are: they stay at the
+  // image centres the focal length search assumed. Such a start is rougher, and its
+  // distortion comes only from re-matching: a few more rounds.
+  CalibrationOptions refine_options = options;
+  if (metric.focal_searched) {
+    refine_options.intrinsics.fix_principal_point = true;
+    refine_options.rematch_rounds = std::max(refine_options.rematch_rounds, 3);
+    refine_options.max_rematch_rounds =
+        std::max(refine_options.max_rematch_rounds, refine_options.rematch_rounds);
+  }
+  const int most_rounds =
+      refine_options.rematch_rounds == 0 ? 0 : refine_options.max_rematch_rounds;
+  if (progress) progress->Restart("bundle adjustment", 1 + static_cast<size_t>(most_rounds));
+  MetricRefinement refine(refine_options, out);
+  // The uncertainty is that of the principal points free unless the user fixed them: held at
+  // the image centres after a focal length search, they are an assumption, not a measurement.
+  IntrinsicsModel uncertainty_model = refine_options.intrinsics;
+  uncertainty_model.fixed = options.known_intrinsics;
+  uncertainty_model.fix_principal_point = options.intrinsics.fix_principal_point;
+  refine.Adjust(metric.graph, &metric.scene, "Euclidean bundle adjustment");
+  uncertainty_model.radial_terms = refine.RadialTerms();
+  if (progress) progress->Advance();
+  for (size_t p = 0; p < metric.pairs.size(); ++p) {
+    const ViewLink* link = metric.graph.Find(CameraIndex(cameras, metric.pairs[p].camera_i),
+                                             CameraIndex(cameras, metric.pairs[p].camera_j));
+    used[p] = link != nullptr && metric.scene.present[link->i] && metric.scene.present[link->j];
+  }
+  if (sequences != nullptr) {
+    for (int round = 0; round < most_rounds && !(progress && progress->cancelled()); ++round) {
+      // After a focal length search the principal points were held at the image centres
+      // while the cameras settled; the last round estimates them where the data hold them.
+      if (metric.focal_searched && round + 1 == refine_options.rematch_rounds &&
+          !options.intrinsics.fix_principal_point) {
+        const std::string decision =
+            FreePrincipalPoints(metric.scene, uncertainty_model, refine_options.bundle,
+                                options.free_principal_max_sigma_px);
+        refine.HoldPrincipalPoints(!decision.empty());
+        out->stages.push_back({"principal points", 0.0, 0.0,
+                               decision.empty() ? "estimated in the last round" : decision});
+        spdlog::info("principal points: {}",
+                     decision.empty() ? "estimated in the last round" : decision);
+      }
+      const auto start = Clock::now();
+      std::vector<SilhouetteSequence> undistorted(n);
+      ParallelFor(n, 0, [&](size_t c) {
+        if (!metric.scene.present[c]) return;
+        for (const SilhouetteSequence& s : *sequences) {
+          if (s.camera_id == cameras[c].id)
+            undistorted[c] = UndistortSequence(s, metric.scene.cameras[c]);
+        }
+      });
+      const ViewGraph rematched = RematchedGraph(metric.scene, undistorted, out->sync);
+      spdlog::info("re-matched frontier points of {} pairs ({:.1f} s)", rematched.links().size(),
+                   SecondsSince(start));
+      const std::vector<CameraModel> before = metric.scene.cameras;
+      refine.Adjust(rematched, &metric.scene,
+                    fmt::format("re-matched bundle adjustment {}", round + 1));
+      for (size_t p = 0; p < metric.pairs.size(); ++p) {
+        used[p] =
+            used[p] || rematched.Find(CameraIndex(cameras, metric.pairs[p].camera_i),
+                                      CameraIndex(cameras, metric.pairs[p].camera_j)) != nullptr;
+      }
+      if (progress) progress->Advance();
+      const double turned = LargestRotationChange(before, metric.scene);
+      const bool settled = turned < refine_options.rematch_settled_deg;
+      if (round + 1 < refine_options.rematch_rounds) continue;
+      if (!settled && round + 1 < most_rounds) continue;
+      const std::string verdict =
+          fmt::format("{} after {} rounds: the last turned a camera by {:.3f} deg at most",
+                      settled ? "settled" : "stopped unsettled", round + 1, turned);
+      spdlog::log(settled ? spdlog::level::info : spdlog::level::warn, "re-matching {}", verdict);
+      out->stages.push_back({"re-matching", 0.0, 0.0, verdict});
+      break;
+    }
+  }
+  NormalizeGauge(&metric.scene, options.rig_radius);
+  FillResult(metric.scene, out->sync, out);
+  AddUncertainty(metric.scene, uncertainty_model, refine_options.bundle, out);
+  RejectCamerasWithoutMotion(out);
+  const size_t rejected = ApplyCalibrationGates(options.gates, out);
+  if (rejected > 0) {
+    out->stages.push_back({"sanity gates", 0.0, 0.0,
+                           fmt::format("{} cameras rejected (see their reasons)", rejected)});
+  }
+  out->pairs = CheckPairs(out->cameras, out->placement, metric.pairs, used, options.corrected_px);
+  return rejected;
+}
+
 }  // namespace
 
 std::string CalibrationOptions::Validate() const {
@@ -480,133 +625,48 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
       }
     }
   }
-  bool focal_searched = false;
-  if (!scene && !options.known_intrinsics) {
+  std::optional<MetricStart> metric;
+  if (scene) {
+    metric = MetricStart{std::move(*scene), graph, pairs, added_by, reasons, false};
+  } else if (!options.known_intrinsics) {
     // Self-calibration could not start the metric stage: search a common focal length.
-    start = Clock::now();
-    FocalSearchResult search = SearchCommonFocal(cameras, pairs, options.focal, options.global);
-    out.stages.push_back({"focal length search", 0.0, SecondsSince(start), search.detail});
-    spdlog::info("focal length search: {}", search.detail);
-    if (search.ok) {
-      ApplyGlobalChoice(search.start, &pairs);
-      graph = BuildViewGraph(ids, pairs);
-      PoseChain start_scene =
-          SceneFromGlobalStart(search.start, graph, search.cameras, options.known);
-      added_by = start_scene.added_by;
-      for (std::string& how : added_by) {
-        if (!how.empty()) how += " (focal length search)";
-      }
-      reasons = start_scene.reasons;
-      scene = std::move(start_scene.scene);
-      focal_searched = true;
-    }
+    metric = FocalSearchStart(cameras, pairs, options, &out);
   }
-  for (size_t c = 0; c < n; ++c) {
-    out.placement[c].added_by = added_by[c];
-    out.placement[c].reason = reasons[c];
-  }
-  std::vector<bool> used(pairs.size(), false);
-  if (!scene) {
+  if (!metric) {
     for (size_t c = 0; c < n; ++c) {
-      if (out.placement[c].reason.empty())
-        out.placement[c].reason = "the network could not be calibrated";
+      out.placement[c].reason =
+          reasons[c].empty() ? "the network could not be calibrated" : reasons[c];
       if (c < out.motion.size() && !out.motion[c].sufficient && out.motion[c].frames > 0)
         out.placement[c].reason = out.motion[c].advice + " (" + out.placement[c].reason + ")";
-      out.placement[c].added_by.clear();
     }
-    out.pairs = CheckPairs(out.cameras, out.placement, pairs, used, options.corrected_px);
+    out.pairs = CheckPairs(out.cameras, out.placement, pairs,
+                           std::vector<bool>(pairs.size(), false), options.corrected_px);
     return out;
   }
-
-  if (options.intrinsics.fix_principal_point && !options.known_intrinsics) {
-    // A principal point held fixed is the image centre, not the self-calibration's guess.
-    for (size_t c = 0; c < n; ++c) {
-      if (!scene->present[c]) continue;
-      scene->cameras[c].K(0, 2) = 0.5 * (scene->cameras[c].width - 1);
-      scene->cameras[c].K(1, 2) = 0.5 * (scene->cameras[c].height - 1);
-    }
+  // A self-calibrated start that leaves cameras failing the sanity gates (from distorted
+  // silhouettes the linear upgrade can come out plausible enough to start from, and wrong):
+  // the focal length search gives a second start, and the result with more cameras
+  // calibrated, then the smaller reprojection error, is kept.
+  const bool self_calibrated = !metric->focal_searched && !options.known_intrinsics;
+  NetworkCalibration second = self_calibrated ? out : NetworkCalibration{};
+  const size_t rejected =
+      RefineFromStart(std::move(*metric), cameras, sequences, options, progress, &out);
+  if (self_calibrated && rejected > 0 && !(progress && progress->cancelled())) {
+    const std::string why =
+        fmt::format("the self-calibrated start left {} cameras failing the sanity gates", rejected);
+    spdlog::info("{}: starting again from a focal length search", why);
+    std::optional<MetricStart> retry = FocalSearchStart(cameras, pairs, options, &second);
+    if (retry) RefineFromStart(std::move(*retry), cameras, sequences, options, progress, &second);
+    const bool better =
+        retry && (second.PlacedCount() > out.PlacedCount() ||
+                  (second.PlacedCount() == out.PlacedCount() && second.rms_px < out.rms_px));
+    const std::string verdict =
+        fmt::format("{}; from a focal length search {} of {} cameras: {} kept", why,
+                    retry ? second.PlacedCount() : 0, n, better ? "that start" : "the first");
+    spdlog::info("second start: {}", verdict);
+    if (better) out = std::move(second);
+    out.stages.push_back({"second start", 0.0, 0.0, verdict});
   }
-  // Without self-calibration nothing tells where the principal points are: they stay at the
-  // image centres the focal length search assumed. Such a start is rougher, and its
-  // distortion comes only from re-matching: a few more rounds.
-  CalibrationOptions refine_options = options;
-  if (focal_searched) {
-    refine_options.intrinsics.fix_principal_point = true;
-    refine_options.rematch_rounds = std::max(refine_options.rematch_rounds, 3);
-    refine_options.max_rematch_rounds =
-        std::max(refine_options.max_rematch_rounds, refine_options.rematch_rounds);
-  }
-  const int most_rounds =
-      refine_options.rematch_rounds == 0 ? 0 : refine_options.max_rematch_rounds;
-  if (progress) progress->Restart("bundle adjustment", 1 + static_cast<size_t>(most_rounds));
-  MetricRefinement refine(refine_options, &out);
-  // The uncertainty is that of the principal points free unless the user fixed them: held at
-  // the image centres after a focal length search, they are an assumption, not a measurement.
-  IntrinsicsModel uncertainty_model = refine_options.intrinsics;
-  uncertainty_model.fixed = options.known_intrinsics;
-  uncertainty_model.fix_principal_point = options.intrinsics.fix_principal_point;
-  refine.Adjust(graph, &*scene, "Euclidean bundle adjustment");
-  uncertainty_model.radial_terms = refine.RadialTerms();
-  if (progress) progress->Advance();
-  for (size_t p = 0; p < pairs.size(); ++p) {
-    const ViewLink* link = graph.Find(CameraIndex(cameras, pairs[p].camera_i),
-                                      CameraIndex(cameras, pairs[p].camera_j));
-    used[p] = link != nullptr && scene->present[link->i] && scene->present[link->j];
-  }
-  if (sequences != nullptr) {
-    for (int round = 0; round < most_rounds && !(progress && progress->cancelled()); ++round) {
-      // After a focal length search the principal points were held at the image centres
-      // while the cameras settled; the last round estimates them where the data hold them.
-      if (focal_searched && round + 1 == refine_options.rematch_rounds &&
-          !options.intrinsics.fix_principal_point) {
-        const std::string decision = FreePrincipalPoints(
-            *scene, uncertainty_model, refine_options.bundle, options.free_principal_max_sigma_px);
-        refine.HoldPrincipalPoints(!decision.empty());
-        out.stages.push_back({"principal points", 0.0, 0.0,
-                              decision.empty() ? "estimated in the last round" : decision});
-        spdlog::info("principal points: {}",
-                     decision.empty() ? "estimated in the last round" : decision);
-      }
-      start = Clock::now();
-      std::vector<SilhouetteSequence> undistorted(n);
-      ParallelFor(n, 0, [&](size_t c) {
-        if (!scene->present[c]) return;
-        for (const SilhouetteSequence& s : *sequences) {
-          if (s.camera_id == cameras[c].id)
-            undistorted[c] = UndistortSequence(s, scene->cameras[c]);
-        }
-      });
-      const ViewGraph rematched = RematchedGraph(*scene, undistorted, out.sync);
-      spdlog::info("re-matched frontier points of {} pairs ({:.1f} s)", rematched.links().size(),
-                   SecondsSince(start));
-      const std::vector<CameraModel> before = scene->cameras;
-      refine.Adjust(rematched, &*scene, fmt::format("re-matched bundle adjustment {}", round + 1));
-      for (size_t p = 0; p < pairs.size(); ++p) {
-        used[p] = used[p] || rematched.Find(CameraIndex(cameras, pairs[p].camera_i),
-                                            CameraIndex(cameras, pairs[p].camera_j)) != nullptr;
-      }
-      if (progress) progress->Advance();
-      const double turned = LargestRotationChange(before, *scene);
-      const bool settled = turned < refine_options.rematch_settled_deg;
-      if (round + 1 < refine_options.rematch_rounds) continue;
-      if (!settled && round + 1 < most_rounds) continue;
-      const std::string verdict =
-          fmt::format("{} after {} rounds: the last turned a camera by {:.3f} deg at most",
-                      settled ? "settled" : "stopped unsettled", round + 1, turned);
-      spdlog::log(settled ? spdlog::level::info : spdlog::level::warn, "re-matching {}", verdict);
-      out.stages.push_back({"re-matching", 0.0, 0.0, verdict});
-      break;
-    }
-  }
-  NormalizeGauge(&*scene, options.rig_radius);
-  FillResult(*scene, out.sync, &out);
-  AddUncertainty(*scene, uncertainty_model, refine_options.bundle, &out);
-  RejectCamerasWithoutMotion(&out);
-  if (const size_t rejected = ApplyCalibrationGates(options.gates, &out); rejected > 0) {
-    out.stages.push_back({"sanity gates", 0.0, 0.0,
-                          fmt::format("{} cameras rejected (see their reasons)", rejected)});
-  }
-  out.pairs = CheckPairs(out.cameras, out.placement, pairs, used, options.corrected_px);
   if (progress) progress->Finish();
   return out;
 }

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -230,10 +231,17 @@ TEST(RealCaptureCalibration, UtrechtWithCheckerboardIntrinsicsWhateverTheSeed) {
 // 2-4 left 2 of 6 pairs failed and calibrated no camera at all (seeds 1, 5, 6 all four).
 TEST(RealCaptureCalibration, UtrechtWithoutAnyCalibration) {
   if (!std::filesystem::exists(kUtrecht)) GTEST_SKIP() << "no real data at " << kUtrecht;
-  for (const uint64_t seed : {2u, 3u, 4u}) {
+  // Seed 7's self-calibrated start diverges in the adjustment (every camera fails the sanity
+  // gates); the focal length search then gives the second start that calibrates all four.
+  for (const uint64_t seed : {3u, 4u, 7u}) {
     SCOPED_TRACE(::testing::Message() << "seed " << seed);
     testing::TempDir dir;
     const CalibrateJobResult result = CalibrateUtrecht(false, dir, seed);
+    const std::vector<CalibrationStage>& stages = result.calibration.stages;
+    const bool second_start =
+        std::any_of(stages.begin(), stages.end(),
+                    [](const CalibrationStage& s) { return s.name == "second start"; });
+    EXPECT_EQ(second_start, seed == 7);
     ASSERT_TRUE(result.errors.has_value());
     const CalibrationErrors& e = *result.errors;
     std::printf("  seed %u: focal %.2f %%, rotation median %.3f deg, max %.3f deg\n",
