@@ -358,8 +358,10 @@ struct MetricStart {
 };
 
 // The start from a common focal length (square pixels, principal points at the image
-// centres), recorded as a stage of `out`; nullopt if no focal length in the range gives one.
+// centres) for `cameras` (`ids` their ids), recorded as a stage of `out`; nullopt if no focal
+// length in the range gives one.
 std::optional<MetricStart> FocalSearchStart(const std::vector<CameraModel>& cameras,
+                                            const std::vector<std::string>& ids,
                                             std::vector<PairwiseResult> pairs,
                                             const CalibrationOptions& options,
                                             NetworkCalibration* out) {
@@ -369,9 +371,6 @@ std::optional<MetricStart> FocalSearchStart(const std::vector<CameraModel>& came
   spdlog::info("focal length search: {}", search.detail);
   if (!search.ok) return std::nullopt;
   ApplyGlobalChoice(search.start, &pairs);
-  std::vector<std::string> ids;
-  for (const CameraModel& c : cameras)
-    ids.push_back(c.id);
   ViewGraph graph = BuildViewGraph(ids, pairs);
   PoseChain chain = SceneFromGlobalStart(search.start, graph, search.cameras, options.known);
   for (std::string& how : chain.added_by) {
@@ -627,10 +626,12 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
   }
   std::optional<MetricStart> metric;
   if (scene) {
-    metric = MetricStart{std::move(*scene), graph, pairs, added_by, reasons, false};
+    // `pairs` stay as they are for a second start.
+    metric = MetricStart{std::move(*scene),   std::move(graph),   pairs,
+                         std::move(added_by), std::move(reasons), false};
   } else if (!options.known_intrinsics) {
     // Self-calibration could not start the metric stage: search a common focal length.
-    metric = FocalSearchStart(cameras, pairs, options, &out);
+    metric = FocalSearchStart(cameras, ids, pairs, options, &out);
   }
   if (!metric) {
     for (size_t c = 0; c < n; ++c) {
@@ -655,7 +656,7 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
     const std::string why =
         fmt::format("the self-calibrated start left {} cameras failing the sanity gates", rejected);
     spdlog::info("{}: starting again from a focal length search", why);
-    std::optional<MetricStart> retry = FocalSearchStart(cameras, pairs, options, &second);
+    std::optional<MetricStart> retry = FocalSearchStart(cameras, ids, pairs, options, &second);
     if (retry) RefineFromStart(std::move(*retry), cameras, sequences, options, progress, &second);
     const bool better =
         retry && (second.PlacedCount() > out.PlacedCount() ||
