@@ -59,8 +59,8 @@ FocalSearchResult SearchCommonFocal(const std::vector<CameraModel>& templates,
     std::vector<CameraModel> cameras = WithFocal(templates, factor);
     GlobalStart start = EstimateGlobalStart(cameras, pairs, start_options);
     const StartScore score = Score(start);
-    spdlog::debug("focal search: {:.3f} x side: {} pairs agree, {:.2f} deg", factor, score.agreeing,
-                  score.mean_error_deg);
+    spdlog::debug("focal search: {:.3f} x side: {} pairs agree, {:.2f} deg{}{}", factor,
+                  score.agreeing, score.mean_error_deg, start.ok ? "" : "; ", start.reason);
     if (start.ok && (!best.ok || score.BetterThan(best_score))) {
       best.ok = true;
       best.factor = factor;
