@@ -44,9 +44,8 @@ StartScore Score(const GlobalStart& start) {
   return score;
 }
 
-}  // namespace
-
-FocalSearchResult SearchCommonFocal(const std::vector<CameraModel>& templates,
+// The search over the focal lengths at one rotation tolerance (`start_options`').
+FocalSearchResult SearchAtTolerance(const std::vector<CameraModel>& templates,
                                     const std::vector<PairwiseResult>& pairs,
                                     const FocalSearchOptions& options,
                                     const GlobalStartOptions& start_options) {
@@ -73,8 +72,31 @@ FocalSearchResult SearchCommonFocal(const std::vector<CameraModel>& templates,
                               "focal length {:.3f} x the larger image side: {} pairs agree "
                               "to {:.2f} deg on average",
                               best.factor, best_score.agreeing, best_score.mean_error_deg)
-                        : "no focal length in the range gives three cameras whose pairs agree";
+                        : fmt::format(
+                              "no focal length in the range gives three cameras whose "
+                              "pairs agree within {:.1f} deg",
+                              start_options.rotation_tolerance_deg);
   return best;
+}
+
+}  // namespace
+
+FocalSearchResult SearchCommonFocal(const std::vector<CameraModel>& templates,
+                                    const std::vector<PairwiseResult>& pairs,
+                                    const FocalSearchOptions& options,
+                                    const GlobalStartOptions& start_options) {
+  FocalSearchResult result = SearchAtTolerance(templates, pairs, options, start_options);
+  if (result.ok || !(options.fallback_tolerance_factor > 1.0)) return result;
+  GlobalStartOptions looser = start_options;
+  looser.rotation_tolerance_deg *= options.fallback_tolerance_factor;
+  spdlog::info("focal length search: {}; searching again within {:.1f} deg", result.detail,
+               looser.rotation_tolerance_deg);
+  FocalSearchResult second = SearchAtTolerance(templates, pairs, options, looser);
+  second.detail =
+      second.ok ? fmt::format("{} (within {:.1f} deg: none agreed within {:.1f})", second.detail,
+                              looser.rotation_tolerance_deg, start_options.rotation_tolerance_deg)
+                : second.detail;
+  return second;
 }
 
 }  // namespace silnet::aggregator

@@ -5,7 +5,9 @@
 // chosen from a log-spaced range as the one whose essential matrices agree best around the
 // network (most pairs whose relative rotations close, then the smallest rotation errors;
 // GlobalStart). Wrong focal lengths bend the relative rotations so that cycles do not close.
-// The bundle adjustment then frees each camera's intrinsics.
+// Where no focal length closes a cycle within the rotation tolerance (strong lens distortion
+// and principal points off centre bend them too), the search is repeated once with a looser
+// tolerance. The bundle adjustment then frees each camera's intrinsics.
 
 #include <string>
 #include <vector>
@@ -19,6 +21,9 @@ struct FocalSearchOptions {
   double min_factor = 0.35;
   double max_factor = 4.0;
   int steps = 24;
+  // The global start's rotation tolerance is multiplied by this for the second search, when
+  // the first finds nothing (1 = no second search).
+  double fallback_tolerance_factor = 2.0;
 };
 
 // The chosen focal length and the global start it gives.
