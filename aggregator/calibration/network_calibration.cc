@@ -9,6 +9,7 @@
 #include <numbers>
 #include <optional>
 
+#include "aggregator/calibration/addition_order.h"
 #include "aggregator/calibration/ambiguity_resolution.h"
 #include "aggregator/calibration/calibration_gates.h"
 #include "aggregator/calibration/camera_uncertainty.h"
@@ -74,6 +75,10 @@ class MetricRefinement {
   // The radial terms the adjustments estimate (the options' or, once detected, k1 and k2).
   int RadialTerms() const { return options_.intrinsics.radial_terms; }
 
+  // Whether the adjustments that follow estimate k1 alone where k1 and k2 are asked for (a
+  // rough start can trade a wrong focal length against k1 and k2 together).
+  void HoldSecondRadialTerm(bool hold) { hold_k2_ = hold; }
+
   // Euclidean bundle adjustment on `graph`'s correspondences: first on a sample (the
   // cameras may still be far off), then on at most final_tracks_per_link of each link.
   void Adjust(const ViewGraph& graph, MetricScene* scene, const std::string& stage) {
@@ -95,6 +100,7 @@ class MetricRefinement {
       StartDistortion(scene, model, stage);
       return;
     }
+    model.radial_terms = Held(model.radial_terms);
     Record(stage, AdjustEuclidean(scene, model, options_.bundle), "");
   }
 
@@ -107,24 +113,49 @@ class MetricRefinement {
     model.radial_terms = 0;
     const BundleSummary plain = AdjustEuclidean(scene, model, options_.bundle);
     Record(stage, plain, "without distortion");
-    model.radial_terms = asked > 0 ? asked : 2;
+    const int terms = asked > 0 ? asked : 2;
+    model.radial_terms = Held(terms);
     MetricScene radial_scene = *scene;
     radial_scene.inlier.assign(radial_scene.tracks.size(), true);
     const BundleSummary radial = AdjustEuclidean(&radial_scene, model, options_.bundle);
     if (asked == 0) {
-      const bool detected = radial.rms_px < (1.0 - options_.distortion_gain) * plain.rms_px;
+      const auto [plain_rms, radial_rms] = model.fix_principal_point
+                                               ? FitsWithFreePrincipalPoints(*scene, model)
+                                               : std::pair{plain.rms_px, radial.rms_px};
+      const bool detected = radial_rms < (1.0 - options_.distortion_gain) * plain_rms;
       const std::string verdict = fmt::format(
-          "{}: k1, k2 fit the frontier points to {:.3f} px rms against {:.3f} px without",
-          detected ? "detected" : "not detected", radial.rms_px, plain.rms_px);
+          "{}: {} fit the frontier points to {:.3f} px rms against {:.3f} px without{}",
+          detected ? "detected" : "not detected", model.radial_terms > 1 ? "k1, k2" : "k1",
+          radial_rms, plain_rms, model.fix_principal_point ? " (principal points free)" : "");
       spdlog::info("radial distortion {}", verdict);
       out_->stages.push_back({"radial distortion", radial.rms_px, radial.seconds, verdict});
       if (!detected) return;
-      options_.intrinsics.radial_terms = model.radial_terms;
+      options_.intrinsics.radial_terms = terms;
     }
     *scene = std::move(radial_scene);
     Record(stage + " with radial distortion", radial,
            fmt::format("k1{}", model.radial_terms > 1 ? ", k2" : ""));
   }
+
+  // The rms of two adjustments from `scene` with the principal points free, without and with
+  // `model`'s radial terms. With the principal points held at the image centres (after a focal
+  // length search) principal points off centre can pass for radial distortion; these fits
+  // decide whether it is detected, the adopted ones keep the points held.
+  std::pair<double, double> FitsWithFreePrincipalPoints(const MetricScene& scene,
+                                                        IntrinsicsModel model) const {
+    const int terms = model.radial_terms;
+    model.fix_principal_point = false;
+    model.radial_terms = 0;
+    MetricScene plain = scene;
+    const double plain_rms = AdjustEuclidean(&plain, model, options_.bundle).rms_px;
+    plain.inlier.assign(plain.tracks.size(), true);
+    model.radial_terms = terms;
+    const double radial_rms = AdjustEuclidean(&plain, model, options_.bundle).rms_px;
+    return {plain_rms, radial_rms};
+  }
+
+  // `radial_terms`, or at most k1 while the second term is held.
+  int Held(int radial_terms) const { return hold_k2_ ? std::min(radial_terms, 1) : radial_terms; }
 
   void Record(const std::string& name, const BundleSummary& s, const std::string& detail) {
     out_->stages.push_back(
@@ -137,6 +168,7 @@ class MetricRefinement {
   CalibrationOptions options_;
   NetworkCalibration* out_;
   bool distortion_started_ = false;
+  bool hold_k2_ = false;
 };
 
 // The view graph of every calibrated pair, matched afresh under the calibration.
@@ -219,7 +251,9 @@ PoseChain SceneFromGlobalStart(const GlobalStart& global, const ViewGraph& graph
   chain.reasons.assign(cameras.size(), "");
   for (size_t c = 0; c < cameras.size(); ++c) {
     if (!s.present[c]) {
-      chain.reasons[c] = "fewer than two of its pairs agree with the network's rotations";
+      chain.reasons[c] = graph.Neighbours(c).size() < 2
+                             ? ReasonNotPlaced(graph, s.present, c)
+                             : "fewer than two of its pairs agree with the network's rotations";
       continue;
     }
     s.cameras[c].R = global.R[c];
@@ -420,7 +454,12 @@ size_t RefineFromStart(MetricStart metric, const std::vector<CameraModel>& camer
   IntrinsicsModel uncertainty_model = refine_options.intrinsics;
   uncertainty_model.fixed = options.known_intrinsics;
   uncertainty_model.fix_principal_point = options.intrinsics.fix_principal_point;
+  // After a focal length search, k2 waits for the first re-matching round: on the first
+  // frontier points k1 and k2 together can make up for a focal length far off (Utrecht, the
+  // bevelled boundary, seed 3: f 2 900 px, k1 -20, k2 380).
+  refine.HoldSecondRadialTerm(metric.focal_searched);
   refine.Adjust(metric.graph, &metric.scene, "Euclidean bundle adjustment");
+  refine.HoldSecondRadialTerm(false);
   uncertainty_model.radial_terms = refine.RadialTerms();
   if (progress) progress->Advance();
   for (size_t p = 0; p < metric.pairs.size(); ++p) {

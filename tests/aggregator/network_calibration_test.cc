@@ -135,6 +135,21 @@ TEST(NetworkCalibration, EightCameraRing) {
     EXPECT_EQ(c.dist.norm(), 0.0) << c.id;
 }
 
+// The same capture started from the focal length search (no triplet usable for the
+// projective route), where the principal points are held at the image centres: principal
+// points 3 % off centre must not pass for lens distortion.
+TEST(NetworkCalibration, EightCameraRingFromTheFocalLengthSearchFindsNoDistortion) {
+  const auto& estimated = Estimated(kRing8);
+  CalibrationOptions options;
+  options.detect_distortion = true;
+  options.projective.min_epipole_angle_deg = 180.0;
+  const NetworkCalibration calibration = Calibrate(estimated, options);
+  ASSERT_NE(StageDetail(calibration, "focal length search"), "none");
+  EXPECT_TRUE(DistortionVerdict(calibration).starts_with("not detected"))
+      << DistortionVerdict(calibration);
+  ExpectAcceptance(calibration, estimated.capture.cameras);
+}
+
 TEST(NetworkCalibration, EightCameraDome) {
   const auto& estimated = Estimated({8, sim::RigLayout::kDome, 0.0, 600, 4, 0.03});
   const NetworkCalibration calibration = Calibrate(estimated, {});
