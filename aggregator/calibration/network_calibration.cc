@@ -455,8 +455,8 @@ size_t RefineFromStart(MetricStart metric, const std::vector<CameraModel>& camer
   uncertainty_model.fixed = options.known_intrinsics;
   uncertainty_model.fix_principal_point = options.intrinsics.fix_principal_point;
   // After a focal length search, k2 waits for the first re-matching round: on the first
-  // frontier points k1 and k2 together can make up for a focal length far off (Utrecht, the
-  // bevelled boundary, seed 3: f 2 900 px, k1 -20, k2 380).
+  // frontier points k1 and k2 together can make up for a focal length far off (Utrecht with an
+  // experimental boundary model, seed 3: f 2 900 px, k1 -20, k2 380).
   refine.HoldSecondRadialTerm(metric.focal_searched);
   refine.Adjust(metric.graph, &metric.scene, "Euclidean bundle adjustment");
   refine.HoldSecondRadialTerm(false);
