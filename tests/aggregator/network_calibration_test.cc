@@ -7,10 +7,11 @@
 // critical configuration for self-calibration: a common tilt of the cameras against their
 // principal points is weakly observed, so the rotation error varies from capture to capture.
 // With principal points up to 3 % of the image off centre and no prior on them, over
-// simulator seeds 1-5 at 600 frames the median rotation error was 0.156, 0.176, 0.182, 0.282,
-// 0.048 degrees (ring) and 0.263, 0.192, 0.132, 0.090, 0.084 (dome), the worst camera within
-// 0.364 degrees and the principal points within 1.4-4.3 px; see docs/PERFORMANCE.md. The ring
-// and dome tests below use seeds 1 and 4 of that sweep.
+// simulator seeds 1-5 at 600 frames the median rotation error was 0.099, 0.081, 0.164, 0.071,
+// 0.084 degrees (ring) and 0.216, 0.219, 0.079, 0.144, 0.069 (dome), the worst camera within
+// 0.369 degrees and the principal points within 1.1-4.3 px (2026-11-29); more frames do not
+// bring the domes' errors down, see docs/PERFORMANCE.md. The ring and dome tests below use
+// seeds 1 and 4 of that sweep.
 
 #include "aggregator/calibration/network_calibration.h"
 
