@@ -92,10 +92,11 @@ FocalSearchResult SearchCommonFocal(const std::vector<CameraModel>& templates,
   spdlog::info("focal length search: {}; searching again within {:.1f} deg", result.detail,
                looser.rotation_tolerance_deg);
   FocalSearchResult second = SearchAtTolerance(templates, pairs, options, looser);
-  second.detail =
-      second.ok ? fmt::format("{} (within {:.1f} deg: none agreed within {:.1f})", second.detail,
-                              looser.rotation_tolerance_deg, start_options.rotation_tolerance_deg)
-                : second.detail;
+  if (second.ok) {
+    second.detail =
+        fmt::format("{} (within {:.1f} deg: none agreed within {:.1f})", second.detail,
+                    looser.rotation_tolerance_deg, start_options.rotation_tolerance_deg);
+  }
   return second;
 }
 

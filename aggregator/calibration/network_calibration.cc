@@ -104,54 +104,62 @@ class MetricRefinement {
     Record(stage, AdjustEuclidean(scene, model, options_.bundle), "");
   }
 
+  // An adjustment of `scene` without radial terms, then one of a copy of its result (every
+  // track an inlier again) with `model`'s radial terms.
+  struct RadialFits {
+    BundleSummary plain;
+    MetricScene radial_scene;
+    BundleSummary radial;
+  };
+  RadialFits FitWithoutAndWithRadialTerms(MetricScene* scene, IntrinsicsModel model) const {
+    const int terms = model.radial_terms;
+    model.radial_terms = 0;
+    RadialFits fits;
+    fits.plain = AdjustEuclidean(scene, model, options_.bundle);
+    fits.radial_scene = *scene;
+    fits.radial_scene.inlier.assign(fits.radial_scene.tracks.size(), true);
+    model.radial_terms = terms;
+    fits.radial = AdjustEuclidean(&fits.radial_scene, model, options_.bundle);
+    return fits;
+  }
+
   // The first adjustment without radial terms, then from its result with the terms asked for
   // or, when they are to be detected, with k1 and k2, kept (and estimated from then on) only if
-  // they fit clearly better.
+  // they fit clearly better. With the principal points held at the image centres (after a
+  // focal length search) principal points off centre can pass for radial distortion: the
+  // detection then compares the same two fits with the principal points free, while the
+  // adopted ones keep them held.
   void StartDistortion(MetricScene* scene, IntrinsicsModel model, const std::string& stage) {
     distortion_started_ = true;
     const int asked = model.radial_terms;
-    model.radial_terms = 0;
-    const BundleSummary plain = AdjustEuclidean(scene, model, options_.bundle);
-    Record(stage, plain, "without distortion");
     const int terms = asked > 0 ? asked : 2;
     model.radial_terms = Held(terms);
-    MetricScene radial_scene = *scene;
-    radial_scene.inlier.assign(radial_scene.tracks.size(), true);
-    const BundleSummary radial = AdjustEuclidean(&radial_scene, model, options_.bundle);
+    RadialFits fits = FitWithoutAndWithRadialTerms(scene, model);
+    Record(stage, fits.plain, "without distortion");
     if (asked == 0) {
-      const auto [plain_rms, radial_rms] = model.fix_principal_point
-                                               ? FitsWithFreePrincipalPoints(*scene, model)
-                                               : std::pair{plain.rms_px, radial.rms_px};
+      double plain_rms = fits.plain.rms_px, radial_rms = fits.radial.rms_px;
+      if (model.fix_principal_point) {
+        IntrinsicsModel free = model;
+        free.fix_principal_point = false;
+        MetricScene free_scene = *scene;
+        const RadialFits free_fits = FitWithoutAndWithRadialTerms(&free_scene, free);
+        plain_rms = free_fits.plain.rms_px;
+        radial_rms = free_fits.radial.rms_px;
+      }
       const bool detected = radial_rms < (1.0 - options_.distortion_gain) * plain_rms;
       const std::string verdict = fmt::format(
           "{}: {} fit the frontier points to {:.3f} px rms against {:.3f} px without{}",
           detected ? "detected" : "not detected", model.radial_terms > 1 ? "k1, k2" : "k1",
           radial_rms, plain_rms, model.fix_principal_point ? " (principal points free)" : "");
       spdlog::info("radial distortion {}", verdict);
-      out_->stages.push_back({"radial distortion", radial.rms_px, radial.seconds, verdict});
+      out_->stages.push_back(
+          {"radial distortion", fits.radial.rms_px, fits.radial.seconds, verdict});
       if (!detected) return;
       options_.intrinsics.radial_terms = terms;
     }
-    *scene = std::move(radial_scene);
-    Record(stage + " with radial distortion", radial,
+    *scene = std::move(fits.radial_scene);
+    Record(stage + " with radial distortion", fits.radial,
            fmt::format("k1{}", model.radial_terms > 1 ? ", k2" : ""));
-  }
-
-  // The rms of two adjustments from `scene` with the principal points free, without and with
-  // `model`'s radial terms. With the principal points held at the image centres (after a focal
-  // length search) principal points off centre can pass for radial distortion; these fits
-  // decide whether it is detected, the adopted ones keep the points held.
-  std::pair<double, double> FitsWithFreePrincipalPoints(const MetricScene& scene,
-                                                        IntrinsicsModel model) const {
-    const int terms = model.radial_terms;
-    model.fix_principal_point = false;
-    model.radial_terms = 0;
-    MetricScene plain = scene;
-    const double plain_rms = AdjustEuclidean(&plain, model, options_.bundle).rms_px;
-    plain.inlier.assign(plain.tracks.size(), true);
-    model.radial_terms = terms;
-    const double radial_rms = AdjustEuclidean(&plain, model, options_.bundle).rms_px;
-    return {plain_rms, radial_rms};
   }
 
   // `radial_terms`, or at most k1 while the second term is held.
