@@ -101,9 +101,16 @@ PairCandidate ReadCandidate(const cv::FileNode& node, const std::filesystem::pat
     throw InputError(path.string() + ": pair " + pair + " has a non-finite offset");
   c.model = EpipolarModel::FromFundamental(c.F, c.offset);
   c.offset_sigma = node["offset_sigma"];
-  c.inliers = static_cast<size_t>(static_cast<int>(node["inliers"]));
   c.residual_rms = node["residual"];
-  c.support = static_cast<size_t>(static_cast<int>(node["agreeing"]));
+  if (!(c.offset_sigma >= 0.0 && std::isfinite(c.offset_sigma)) ||
+      !(c.residual_rms >= 0.0 && std::isfinite(c.residual_rms)))
+    throw InputError(path.string() + ": pair " + pair +
+                     " has a negative or non-finite offset_sigma or residual");
+  const int inliers = node["inliers"], agreeing = node["agreeing"];
+  if (inliers < 0 || agreeing < 0)
+    throw InputError(path.string() + ": pair " + pair + " has a negative count");
+  c.inliers = static_cast<size_t>(inliers);
+  c.support = static_cast<size_t>(agreeing);
   if (!csv.empty() && c.inliers > 0) c.inlier_matches = ReadMatchesCsv(csv, path);
   return c;
 }
@@ -130,6 +137,8 @@ std::vector<PairwiseResult> ReadPairs(const cv::FileStorage& fs, const std::file
                                         : PairStatus::kFailed;
     p.reason = static_cast<std::string>(node["reason"]);
     const std::string name = p.camera_i + "-" + p.camera_j;
+    if (p.camera_i.empty() || p.camera_j.empty() || p.camera_i == p.camera_j)
+      throw InputError(path.string() + ": pair '" + name + "' needs two different cameras");
     const auto csv = [&](const std::string& file) {
       return matches_dir.empty() ? std::filesystem::path() : matches_dir / file;
     };

@@ -373,6 +373,16 @@ TEST(PairsYaml, MalformedPairsAreClearErrors) {
       "pair a-b: 'F' has 3600000000 entries, expected 9");
   refused("pairs: [ { i: a, j: b, status: ok, " + f + ", offset: .NaN } ]\n",
           "pair a-b has a non-finite offset");
+  refused("pairs: [ { i: a, j: a, status: ok, " + f + ", offset: 1 } ]\n",
+          "pair 'a-a' needs two different cameras");
+  refused("pairs: [ { j: b, status: ok, " + f + ", offset: 1 } ]\n",
+          "pair '-b' needs two different cameras");
+  refused("pairs: [ { i: a, j: b, status: ok, " + f + ", offset: 1, inliers: -3 } ]\n",
+          "pair a-b has a negative count");
+  refused("pairs: [ { i: a, j: b, status: ok, " + f + ", offset: 1, offset_sigma: -1 } ]\n",
+          "pair a-b has a negative or non-finite offset_sigma or residual");
+  refused("pairs: [ { i: a, j: b, status: ok, " + f + ", offset: 1, residual: .Inf } ]\n",
+          "pair a-b has a negative or non-finite offset_sigma or residual");
   std::ofstream(dir / "pairs.yaml")
       << "%YAML:1.0\n---\npairs: [ { i: a, j: b, status: ok, " << f << ", offset: 2.5 } ]\n";
   const std::vector<PairwiseResult> pairs = ReadPairsYaml(dir / "pairs.yaml", {});
