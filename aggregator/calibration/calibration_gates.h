@@ -23,12 +23,14 @@ struct CalibrationGates {
   double max_principal_offset = 0.3;  // |pp - centre| / image size, per axis
   double max_abs_k1 = 1.5;            // |k1|
   double min_in_front = 0.95;         // share of a camera's frontier points in front of it
-  // Rotation standard deviation (degrees) from the final adjustment's covariance, at most;
-  // 0 = no limit. Measured: 0.15-0.25 on simulated 8-camera rings (true errors 0.02-0.23),
-  // 1.23-1.74 on the real Utrecht capture self-calibrated with k1, k2 (true errors 2.0-3.3
-  // degrees; docs/PERFORMANCE.md). The limit turns away cameras the data hardly hold
-  // without rejecting that capture.
-  double max_rotation_sigma_deg = 2.5;
+  // Rotation standard deviation (degrees) from the final adjustment, frames grouped as
+  // CalibrationOptions::uncertainty says, at most; 0 = no limit. Measured: 0.15-0.25 on
+  // simulated 8-camera rings (true errors 0.02-0.23), 1.4-3.9 on the real Utrecht capture
+  // self-calibrated with k1, k2 (true errors 2.6-3.3 degrees against its own calibration;
+  // 1.1-1.7 with every frontier point taken as independent, when the limit was 2.5;
+  // docs/PERFORMANCE.md). The limit turns away cameras the data hardly hold without
+  // rejecting that capture.
+  double max_rotation_sigma_deg = 5.0;
 
   // A readable reason if the limits are unusable, empty if they are fine.
   std::string Validate() const;

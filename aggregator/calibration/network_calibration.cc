@@ -359,10 +359,11 @@ std::string FreePrincipalPoints(const MetricScene& scene, const IntrinsicsModel&
 }
 
 void AddUncertainty(const MetricScene& scene, const IntrinsicsModel& model,
-                    const BundleOptions& bundle, NetworkCalibration* out) {
+                    const BundleOptions& bundle, const UncertaintyOptions& options,
+                    NetworkCalibration* out) {
   const auto start = Clock::now();
   const std::vector<CameraUncertainty> uncertainty =
-      EstimateCameraUncertainty(scene, model, bundle);
+      EstimateCameraUncertainty(scene, model, bundle, options);
   std::vector<double> rotations;
   for (size_t c = 0; c < scene.cameras.size(); ++c) {
     if (!scene.present[c]) continue;
@@ -382,9 +383,13 @@ void AddUncertainty(const MetricScene& scene, const IntrinsicsModel& model,
   const std::string detail =
       rotations.empty()
           ? std::string("not estimated")
-          : fmt::format("{} cameras, rotation standard deviation median {:.3f} deg, max {:.3f} deg",
-                        rotations.size(), UpperMedian(rotations),
-                        *std::max_element(rotations.begin(), rotations.end()));
+          : fmt::format(
+                "{} cameras, rotation standard deviation median {:.3f} deg, max {:.3f} deg{}",
+                rotations.size(), UpperMedian(rotations),
+                *std::max_element(rotations.begin(), rotations.end()),
+                options.frames_per_group > 0
+                    ? fmt::format(" (frames grouped by {})", options.frames_per_group)
+                    : std::string());
   out->stages.push_back({"camera uncertainty", 0.0, SecondsSince(start), detail});
 }
 
@@ -525,7 +530,7 @@ size_t RefineFromStart(MetricStart metric, const std::vector<CameraModel>& camer
   }
   NormalizeGauge(&metric.scene, options.rig_radius);
   FillResult(metric.scene, out->sync, out);
-  AddUncertainty(metric.scene, uncertainty_model, refine_options.bundle, out);
+  AddUncertainty(metric.scene, uncertainty_model, refine_options.bundle, options.uncertainty, out);
   RejectCamerasWithoutMotion(out);
   const size_t rejected = ApplyCalibrationGates(options.gates, out);
   if (rejected > 0) {
@@ -556,6 +561,8 @@ std::string CalibrationOptions::Validate() const {
   if (!(bundle.loss_px > 0.0) || bundle.max_iterations < 1)
     return "bundle adjustment needs a positive loss scale and at least one iteration";
   if (!(corrected_px > 0.0)) return "the correction threshold must be positive";
+  if (uncertainty.frames_per_group < 0)
+    return "the uncertainty's frames per group must not be negative";
   if (const std::string why = gates.Validate(); !why.empty()) return why;
   return "";
 }

@@ -1,6 +1,7 @@
 // Per-camera uncertainty from the final Euclidean bundle adjustment, against ground truth:
 // on hand-made networks (exact two-view points, Gaussian pixel noise) the true errors must be
-// of the size the deviations say, and scale with the noise; on a simulated capture the
+// of the size the deviations say, and scale with the noise; errors that runs of frames share
+// must be explained by the deviations that group the frames; on a simulated capture the
 // deviations must be small, explain the true errors, and grow for a camera that few frontier
 // points hold; the uncertainty gate turns away the cameras above it.
 
@@ -30,7 +31,11 @@ struct HandMadeNetwork {
   MetricScene scene;  // started from perturbed cameras
 };
 
-HandMadeNetwork MakeNetwork(int cameras, int per_pair, double noise_px, uint64_t seed) {
+// With `bias_px`, the points of each run of `bias_frames` frames lie within 0.3 m of one
+// place (a subject that moves on) and every camera's points of the run share a further error
+// of that deviation (the errors of neighbouring frames' tangents repeat).
+HandMadeNetwork MakeNetwork(int cameras, int per_pair, double noise_px, uint64_t seed,
+                            double bias_px = 0.0, int bias_frames = 1) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
@@ -49,19 +54,37 @@ HandMadeNetwork MakeNetwork(int cameras, int per_pair, double noise_px, uint64_t
     m.t = -m.R * centre;
     net.truth.push_back(m);
   }
+  const int runs = (per_pair + bias_frames - 1) / bias_frames;
+  std::vector<std::vector<Eigen::Vector2d>> bias(
+      net.truth.size(), std::vector<Eigen::Vector2d>(static_cast<size_t>(runs), {0.0, 0.0}));
+  std::vector<Eigen::Vector3d> places;
+  if (bias_px > 0.0) {
+    for (auto& camera : bias) {
+      for (Eigen::Vector2d& b : camera)
+        b = bias_px * Eigen::Vector2d(gauss(rng), gauss(rng));
+    }
+    for (int run = 0; run < runs; ++run)
+      places.emplace_back(0.9 * uniform(rng), 0.9 * uniform(rng), 1.3 + 0.9 * uniform(rng));
+  }
   MetricScene& s = net.scene;
   s.present.assign(net.truth.size(), true);
   for (size_t i = 0; i < net.truth.size(); ++i) {
     for (size_t j = i + 1; j < net.truth.size(); ++j) {
       for (int k = 0; k < per_pair;) {
-        const Eigen::Vector3d x(1.2 * uniform(rng), 1.2 * uniform(rng), 1.3 + 1.2 * uniform(rng));
+        const Eigen::Vector3d spread(uniform(rng), uniform(rng), uniform(rng));
+        const Eigen::Vector3d x =
+            bias_px > 0.0
+                ? Eigen::Vector3d(places[static_cast<size_t>(k / bias_frames)] + 0.3 * spread)
+                : Eigen::Vector3d(1.2 * spread + Eigen::Vector3d(0.0, 0.0, 1.3));
         const auto a = net.truth[i].Project(x), b = net.truth[j].Project(x);
         if (!a || !b || !net.truth[i].InImage(*a) || !net.truth[j].InImage(*b)) continue;
         TwoViewTrack t;
         t.camera_a = i;
         t.camera_b = j;
-        t.x_a = *a + noise_px * Eigen::Vector2d(gauss(rng), gauss(rng));
-        t.x_b = *b + noise_px * Eigen::Vector2d(gauss(rng), gauss(rng));
+        t.x_a = *a + noise_px * Eigen::Vector2d(gauss(rng), gauss(rng)) +
+                bias[i][static_cast<size_t>(k / bias_frames)];
+        t.x_b = *b + noise_px * Eigen::Vector2d(gauss(rng), gauss(rng)) +
+                bias[j][static_cast<size_t>(k / bias_frames)];
         t.frame = static_cast<uint64_t>(k++);
         s.tracks.push_back(t);
       }
@@ -82,44 +105,81 @@ HandMadeNetwork MakeNetwork(int cameras, int per_pair, double noise_px, uint64_t
 
 // Adjusts the network and returns the uncertainties and the true errors.
 std::pair<std::vector<CameraUncertainty>, CalibrationErrors> AdjustAndCompare(
-    HandMadeNetwork* net, const IntrinsicsModel& model = {}) {
+    HandMadeNetwork* net, const IntrinsicsModel& model = {},
+    const UncertaintyOptions& uncertainty = {}) {
   const BundleOptions options;
   const BundleSummary summary = AdjustEuclidean(&net->scene, model, options);
   EXPECT_TRUE(summary.usable);
-  const std::vector<CameraUncertainty> u = EstimateCameraUncertainty(net->scene, model, options);
+  const std::vector<CameraUncertainty> u =
+      EstimateCameraUncertainty(net->scene, model, options, uncertainty);
   return {u, CompareWithGroundTruth(net->scene.cameras, net->scene.present, net->truth)};
 }
 
-TEST(CameraUncertainty, DeviationsExplainTheErrorsOfNoisyNetworks) {
-  // Squared errors in units of their deviation: about 1 on average if the deviations are right.
+// Squared errors in units of their deviation, per figure: about 1 on average if the
+// deviations are right.
+struct SquaredRatios {
   std::vector<double> rotation, centre, focal, principal;
-  for (uint64_t seed = 1; seed <= 8; ++seed) {
-    HandMadeNetwork net = MakeNetwork(6, 150, 0.3, seed);
-    const auto [u, e] = AdjustAndCompare(&net);
-    ASSERT_EQ(e.cameras.size(), u.size());
-    for (size_t c = 0; c < u.size(); ++c) {
-      ASSERT_TRUE(u[c].estimated) << "seed " << seed << " camera " << c;
+};
+
+double Mean(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v)
+    s += x;
+  return s / static_cast<double>(v.size());
+}
+
+// Adjusts `seeds` 6-camera networks (`per_pair` points per pair and 0.3 px noise, plus
+// `bias_px` per run of `bias_frames` frames) and collects every camera's squared ratios.
+SquaredRatios RatiosOverSeeds(uint64_t seeds, int per_pair, double bias_px, int bias_frames,
+                              const UncertaintyOptions& uncertainty) {
+  SquaredRatios r;
+  for (uint64_t seed = 1; seed <= seeds; ++seed) {
+    HandMadeNetwork net = MakeNetwork(6, per_pair, 0.3, seed, bias_px, bias_frames);
+    const auto [u, e] = AdjustAndCompare(&net, {}, uncertainty);
+    EXPECT_EQ(e.cameras.size(), u.size());
+    for (size_t c = 0; c < u.size() && c < e.cameras.size(); ++c) {
+      EXPECT_TRUE(u[c].estimated) << "seed " << seed << " camera " << c;
+      if (!u[c].estimated) continue;
       // Every camera has its own deviation, the ones the adjustment anchors on included.
       EXPECT_GT(u[c].rotation_deg, 1e-4);
       EXPECT_GT(u[c].center_rel, 1e-5);
-      rotation.push_back(std::pow(e.cameras[c].rotation_deg / u[c].rotation_deg, 2));
-      centre.push_back(std::pow(e.cameras[c].center_rel / u[c].center_rel, 2));
-      focal.push_back(std::pow(e.cameras[c].focal_rel / u[c].focal_rel, 2));
-      principal.push_back(std::pow(e.cameras[c].principal_px / u[c].principal_px, 2));
+      r.rotation.push_back(std::pow(e.cameras[c].rotation_deg / u[c].rotation_deg, 2));
+      r.centre.push_back(std::pow(e.cameras[c].center_rel / u[c].center_rel, 2));
+      r.focal.push_back(std::pow(e.cameras[c].focal_rel / u[c].focal_rel, 2));
+      r.principal.push_back(std::pow(e.cameras[c].principal_px / u[c].principal_px, 2));
     }
   }
-  const auto mean = [](const std::vector<double>& v) {
-    double s = 0.0;
-    for (double x : v)
-      s += x;
-    return s / static_cast<double>(v.size());
-  };
   std::printf("  mean squared error / variance: rotation %.2f, centre %.2f, focal %.2f, pp %.2f\n",
-              mean(rotation), mean(centre), mean(focal), mean(principal));
-  for (const auto* v : {&rotation, &centre, &focal, &principal}) {
-    EXPECT_GT(mean(*v), 0.4);
-    EXPECT_LT(mean(*v), 2.5);
-    EXPECT_LT(*std::max_element(v->begin(), v->end()), 16.0);  // no error beyond 4 sigma
+              Mean(r.rotation), Mean(r.centre), Mean(r.focal), Mean(r.principal));
+  return r;
+}
+
+TEST(CameraUncertainty, DeviationsExplainTheErrorsOfNoisyNetworks) {
+  // Independent noise: the residual variance alone, and with frames grouped (which must
+  // not make the deviations much more cautious than they need be).
+  for (const int frames : {0, 10}) {
+    const SquaredRatios r = RatiosOverSeeds(8, 150, 0.0, 1, {frames});
+    for (const auto* v : {&r.rotation, &r.centre, &r.focal, &r.principal}) {
+      EXPECT_GT(Mean(*v), 0.4) << frames;
+      EXPECT_LT(Mean(*v), 2.5) << frames;
+      EXPECT_LT(*std::max_element(v->begin(), v->end()), 16.0) << frames;  // within 4 sigma
+    }
+  }
+}
+
+TEST(CameraUncertainty, GroupedFramesExplainTheErrorsOfCorrelatedNoise) {
+  // The points of each run of 20 frames sit in one place and each camera's share a 1 px
+  // error: taken as independent observations the deviations are several times too small;
+  // grouped by 20 frames they explain the errors again.
+  const SquaredRatios independent = RatiosOverSeeds(4, 300, 1.0, 20, {});
+  const SquaredRatios grouped = RatiosOverSeeds(4, 300, 1.0, 20, {20});
+  for (const auto& [a, b] : {std::pair{&independent.rotation, &grouped.rotation},
+                             std::pair{&independent.centre, &grouped.centre},
+                             std::pair{&independent.focal, &grouped.focal},
+                             std::pair{&independent.principal, &grouped.principal}}) {
+    EXPECT_GT(Mean(*a), 4.0);
+    EXPECT_GT(Mean(*b), 0.3);
+    EXPECT_LT(Mean(*b), 2.5);
   }
 }
 
