@@ -254,7 +254,8 @@ bool AddPriors(ceres::Problem& problem, const CameraBlocks& b,
 // one Gauss-Newton step (H - H_g)^-1 g_g, and the spread of those moves, (G-1)/G sum of
 // their centred outer products, taken as the covariance. Errors correlated within a group
 // count as what they are, and a group that alone holds a direction weighs as it should
-// (which the plain cluster-robust sandwich underrates). Empty if it cannot be formed.
+// (which the plain cluster-robust sandwich underrates). A group without which some camera
+// would not be held at all is not left out. Empty if fewer than two groups can be.
 Eigen::MatrixXd GroupedCovariance(const MetricScene& scene, const EuclideanProblem& built,
                                   const CameraBlocks& b, int frames_per_group) {
   ceres::Problem& problem = *built.problem;
@@ -280,19 +281,27 @@ Eigen::MatrixXd GroupedCovariance(const MetricScene& scene, const EuclideanProbl
     const int size = problem.ParameterBlockTangentSize(b.blocks[k]);
     all.normal.block(b.tangent_offset[k], b.tangent_offset[k], size, size).setIdentity();
   }
-  const double count = static_cast<double>(groups.size());
+  // Solved in Jacobi-scaled coordinates (unit diagonal), so that the conditioning test
+  // compares directions, not units (pixels of focal length against radians).
+  const Eigen::VectorXd scale = all.normal.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
   std::vector<Eigen::VectorXd> moves;
-  Eigen::VectorXd mean = Eigen::VectorXd::Zero(b.tangent);
   for (const auto& [group, terms] : groups) {
-    const Eigen::LDLT<Eigen::MatrixXd> solver(all.normal - terms.normal);
-    if (solver.info() != Eigen::Success || !solver.isPositive() || solver.rcond() < 1e-14) {
-      spdlog::debug("camera uncertainty: frames {}-{} alone hold a direction; not grouped",
+    const Eigen::LDLT<Eigen::MatrixXd> solver(scale.asDiagonal() * (all.normal - terms.normal) *
+                                              scale.asDiagonal());
+    if (solver.info() != Eigen::Success || !solver.isPositive() || solver.rcond() < 1e-10) {
+      // Nothing to leave out: without this group some camera is not held at all (one seen
+      // in these frames only). Its figures stay the independent ones (the larger is taken).
+      spdlog::debug("camera uncertainty: frames {}-{} alone hold a camera; not left out",
                     group * frames_per_group, (group + 1) * frames_per_group - 1);
-      return {};
+      continue;
     }
-    moves.push_back(solver.solve(terms.gradient));
-    mean += moves.back() / count;
+    moves.push_back(scale.asDiagonal() * solver.solve(scale.asDiagonal() * terms.gradient));
   }
+  if (moves.size() < 2) return {};
+  const double count = static_cast<double>(moves.size());
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(b.tangent);
+  for (const Eigen::VectorXd& move : moves)
+    mean += move / count;
   Eigen::MatrixXd tangent = Eigen::MatrixXd::Zero(b.tangent, b.tangent);
   for (const Eigen::VectorXd& move : moves)
     tangent.selfadjointView<Eigen::Lower>().rankUpdate(move - mean);

@@ -19,7 +19,9 @@
 // delete-a-group jackknife is formed too: each group of consecutive frames is left out in
 // turn, the solution moved by one Gauss-Newton step in the camera parameters (each track's
 // point profiled out), and the spread of those moves taken as a covariance; every figure is
-// the larger of the two estimates. (The plain cluster-robust sandwich was tried first: where
+// the larger of the two estimates. A run without which some camera would not be held at all
+// (one seen in those frames only) is not left out, so that camera keeps the independent
+// figures. (The plain cluster-robust sandwich was tried first: where
 // a group's points sit in one part of the volume, as a walking subject's do, it still
 // reported 6x too little variance; the jackknife weighs such groups as they should.)
 //
