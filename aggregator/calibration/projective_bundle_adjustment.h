@@ -15,7 +15,10 @@ namespace silnet::aggregator {
 struct BundleOptions {
   double loss_px = 1.0;  // Huber loss scale, pixels
   int max_iterations = 100;
-  int threads = 2;
+  // Ceres threads. One by default: Ceres 2.1's Schur elimination locks a mutex per cell of the
+  // reduced camera matrix for every point, and with the few cameras of a rig two threads made
+  // the adjustments slower in wall time, not faster (docs/PERFORMANCE.md).
+  int threads = 1;
 };
 
 // What a bundle adjustment achieved.

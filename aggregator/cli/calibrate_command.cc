@@ -104,8 +104,6 @@ int RunCalibrate(const CalibrateArgs& args) {
   config.calibration.rematch_rounds = args.rematch_rounds;
   config.calibration.max_rematch_rounds = std::max(args.max_rematch_rounds, args.rematch_rounds);
   config.calibration.rig_radius = args.rig_radius;
-  config.calibration.bundle.threads =
-      static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   if (const std::string why = config.calibration.Validate(); !why.empty()) throw InputError(why);
   const auto run = RunWithProgress(
       "calibrate", [&](Progress* progress) { return RunCalibrateJob(config, progress); });

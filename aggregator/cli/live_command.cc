@@ -4,7 +4,6 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
-#include <thread>
 
 #include "aggregator/cli/cli_support.h"
 #include "aggregator/cli/commands.h"
@@ -46,8 +45,6 @@ int RunLive(const LiveArgs& args) {
   options.calibrate.pairwise = args.pairwise.Options();
   options.calibrate.calibration.rig_radius = args.rig_radius;
   ApplyDistortionSetting(args.distortion, &options.calibrate.calibration);
-  options.calibrate.calibration.bundle.threads =
-      static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   options.motion.window_frames = args.motion_window;
   options.motion.reestimate_frames = args.reestimate_frames;
   options.motion.moved.pair = options.calibrate.pairwise.pair;
