@@ -51,7 +51,8 @@ RealCapture LoadEpvhAlien(const std::filesystem::path& folder, int views = 0);
 // x_cam = R X + t; either the `camera_matrix`/`distortion_coefficients`/`rotation_vectors`/
 // `translation_vectors` or the `CameraMatrix`/`DistortionCoeffs`/`Rotation`/`Translation`
 // names), with the image size of the first .avi file in each camera folder and frame rate
-// `fps`. Cameras are named by their folders. Throws InputError for missing or malformed input.
+// `fps`. Cameras are named by their folders. Throws InputError for missing or malformed input
+// (values that are not finite, a camera matrix without positive focal lengths or 0 0 1 below).
 std::vector<CameraModel> LoadUtrechtCameras(const std::filesystem::path& folder, double fps);
 
 // The mask with only its largest 8-connected silhouette component kept (CV_8UC1, 0/255).

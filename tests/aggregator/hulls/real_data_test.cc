@@ -11,6 +11,7 @@
 #include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
 
 #include "aggregator/hulls/boundary_mesh.h"
 #include "aggregator/hulls/hull_reprojection.h"
@@ -134,6 +135,49 @@ TEST(RealDataHullTest, ReadPbmReadsBitsAndRefusesBadHeaders) {
   refused(write("huge.pbm", "P4\n60000 60000\n"), "truncated at row 0");
   refused(write("cut.pbm", "P4\n10 2\n" + std::string("\x80\x40\0", 3)), "truncated at row 1");
   refused(write("ascii.pbm", "P1\n1 1\n1\n"), "not a binary PBM");
+}
+
+// One Utrecht-style camera folder: config.xml beside a one-frame 32x24 video.
+TEST(RealDataHullTest, UtrechtCamerasAreReadAndNonFiniteOrMalformedValuesRefused) {
+  silnet::testing::TempDir dir;
+  const std::filesystem::path camera = dir / "cam1";
+  std::filesystem::create_directories(camera);
+  cv::VideoWriter video((camera / "video.avi").string(),
+                        cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10.0, cv::Size(32, 24));
+  ASSERT_TRUE(video.isOpened());
+  video.write(cv::Mat(24, 32, CV_8UC3, cv::Scalar(90, 90, 90)));
+  video.release();
+  const auto write = [&](cv::Matx33d k, cv::Vec3d t) {
+    cv::FileStorage fs((camera / "config.xml").string(), cv::FileStorage::WRITE);
+    fs << "CameraMatrix" << cv::Mat(k) << "DistortionCoeffs" << cv::Mat(cv::Vec<double, 5>::all(0))
+       << "Rotation" << cv::Mat(cv::Vec3d(0.0, 0.1, 0.0)) << "Translation" << cv::Mat(t);
+  };
+  const cv::Matx33d k(40, 0, 16, 0, 40, 12, 0, 0, 1);
+  write(k, {1, 2, 3000});
+  const std::vector<CameraModel> cameras = LoadUtrechtCameras(dir.path(), 25.0);
+  ASSERT_EQ(cameras.size(), 1u);
+  EXPECT_EQ(cameras[0].id, "cam1");
+  EXPECT_EQ(cameras[0].width, 32);
+  EXPECT_EQ(cameras[0].height, 24);
+  EXPECT_DOUBLE_EQ(cameras[0].K(0, 2), 16.0);
+  EXPECT_DOUBLE_EQ(cameras[0].t.z(), 3000.0);
+  EXPECT_NEAR(cameras[0].R(0, 2), std::sin(0.1), 1e-12);
+  const auto refused = [&](const std::string& fragment) {
+    try {
+      LoadUtrechtCameras(dir.path(), 25.0);
+      ADD_FAILURE() << "accepted a config.xml that should be refused for: " << fragment;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  write(k, {1, std::nan(""), 3000});
+  refused("Translation holds a value that is not finite");
+  write(k, {1, 2, INFINITY});
+  refused("Translation holds a value that is not finite");
+  write(cv::Matx33d(40, 0, 16, 0, 40, 12, 0, 1, 1), {1, 2, 3000});
+  refused("not upper triangular");
+  write(cv::Matx33d(-40, 0, 16, 0, 40, 12, 0, 0, 1), {1, 2, 3000});
+  refused("no focal length");
 }
 
 TEST(RealDataHullTest, InriaDancer) {
