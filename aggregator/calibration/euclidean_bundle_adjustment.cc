@@ -205,7 +205,7 @@ SolveOutcome Solve(MetricScene* scene, const IntrinsicsModel& model, const Bundl
   solver.linear_solver_type = ceres::DENSE_SCHUR;
   solver.max_num_iterations = options.max_iterations;
   solver.num_threads = options.threads;
-  solver.function_tolerance = 1e-7;
+  solver.function_tolerance = options.function_tolerance;
   ceres::Solver::Summary summary;
   ceres::Solve(solver, &problem, &summary);
   spdlog::debug("Euclidean bundle adjustment: {}", summary.BriefReport());
