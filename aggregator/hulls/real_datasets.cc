@@ -124,10 +124,8 @@ std::vector<CameraModel> LoadUtrechtCameras(const std::filesystem::path& folder,
     if (!(camera.K(0, 0) > 0.0 && camera.K(1, 1) > 0.0))
       throw InputError(fmt::format("{}: the camera matrix has no focal length", path.string()));
     if (camera.K(1, 0) != 0.0 || camera.K.row(2) != Eigen::RowVector3d(0.0, 0.0, 1.0)) {
-      throw InputError(
-          fmt::format("{}: the camera matrix is not upper triangular with a last row "
-                      "of 0 0 1",
-                      path.string()));
+      throw InputError(fmt::format(
+          "{}: the camera matrix is not upper triangular with a last row of 0 0 1", path.string()));
     }
     for (int i = 0; i < 5; ++i)
       camera.dist[i] = dist.at<double>(0, i);

@@ -109,6 +109,17 @@ RealHull CarveAndMeasure(const RealCapture& capture, const std::string& name) {
   return result;
 }
 
+// Expects `load` to throw InputError with `fragment` in its message.
+template <typename Load>
+void ExpectRefused(const Load& load, const std::string& fragment) {
+  try {
+    load();
+    ADD_FAILURE() << "accepted input that should be refused for: " << fragment;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
 // A 10x2 raster: row 0 bits 1 at x = 0 and 9, row 1 all 0; each row padded to two bytes.
 TEST(RealDataHullTest, ReadPbmReadsBitsAndRefusesBadHeaders) {
   silnet::testing::TempDir dir;
@@ -124,12 +135,7 @@ TEST(RealDataHullTest, ReadPbmReadsBitsAndRefusesBadHeaders) {
   EXPECT_EQ(mask.at<uint8_t>(0, 9), 255);
   EXPECT_EQ(cv::countNonZero(ReadPbm(dir / "ok.pbm", 0)), 18);
   const auto refused = [&](const std::filesystem::path& path, const std::string& fragment) {
-    try {
-      ReadPbm(path, 1);
-      ADD_FAILURE() << "accepted " << path;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
+    ExpectRefused([&] { ReadPbm(path, 1); }, fragment);
   };
   refused(write("wide.pbm", "P4\n2147483647 1\n"), "bad PBM size 2147483647x1");
   refused(write("huge.pbm", "P4\n60000 60000\n"), "truncated at row 0");
@@ -163,12 +169,7 @@ TEST(RealDataHullTest, UtrechtCamerasAreReadAndNonFiniteOrMalformedValuesRefused
   EXPECT_DOUBLE_EQ(cameras[0].t.z(), 3000.0);
   EXPECT_NEAR(cameras[0].R(0, 2), std::sin(0.1), 1e-12);
   const auto refused = [&](const std::string& fragment) {
-    try {
-      LoadUtrechtCameras(dir.path(), 25.0);
-      ADD_FAILURE() << "accepted a config.xml that should be refused for: " << fragment;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
+    ExpectRefused([&] { LoadUtrechtCameras(dir.path(), 25.0); }, fragment);
   };
   write(k, {1, std::nan(""), 3000});
   refused("Translation holds a value that is not finite");
