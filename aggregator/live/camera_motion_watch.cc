@@ -8,6 +8,7 @@
 
 #include "aggregator/calibration/ground_truth_comparison.h"
 #include "shared/io/calibration_yaml.h"
+#include "shared/io/replace_yaml.h"
 #include "shared/util/check.h"
 
 namespace silnet::aggregator {
@@ -248,24 +249,25 @@ std::optional<CameraUpdate> CameraMotionWatch::Finish(Step& step) {
 
 void CameraMotionWatch::WriteStatus() const {
   const std::filesystem::path path = output_ / "camera_motion.yaml";
-  cv::FileStorage fs(path.string(), cv::FileStorage::WRITE);
-  if (!fs.isOpened()) {
-    spdlog::warn("live: cannot write {}", path.string());
-    return;
+  try {
+    ReplaceYaml(path, [&](cv::FileStorage& fs) {
+      fs << "checks" << checks_ << "last_window_first_frame" << last_window_ << "window_frames"
+         << options_.window_frames;
+      fs << "cameras"
+         << "[";
+      for (const CameraMotionVerdict& v : last_verdicts_) {
+        fs << "{"
+           << "id" << v.camera_id << "residual_px" << v.residual_px << "baseline_px"
+           << v.baseline_px << "pairs_measured" << static_cast<int>(v.pairs_measured)
+           << "pairs_jumped" << static_cast<int>(v.pairs_jumped) << "suspect"
+           << static_cast<int>(v.suspect) << "moved" << static_cast<int>(v.moved) << "}";
+      }
+      fs << "]";
+      WriteMoveEvents(fs, "moves", events_);
+    });
+  } catch (const InputError& e) {
+    spdlog::warn("live: {}", e.what());
   }
-  fs << "checks" << checks_ << "last_window_first_frame" << last_window_ << "window_frames"
-     << options_.window_frames;
-  fs << "cameras"
-     << "[";
-  for (const CameraMotionVerdict& v : last_verdicts_) {
-    fs << "{"
-       << "id" << v.camera_id << "residual_px" << v.residual_px << "baseline_px" << v.baseline_px
-       << "pairs_measured" << static_cast<int>(v.pairs_measured) << "pairs_jumped"
-       << static_cast<int>(v.pairs_jumped) << "suspect" << static_cast<int>(v.suspect) << "moved"
-       << static_cast<int>(v.moved) << "}";
-  }
-  fs << "]";
-  WriteMoveEvents(fs, "moves", events_);
 }
 
 void WriteMoveEvents(cv::FileStorage& fs, const std::string& key,

@@ -98,6 +98,8 @@ class CameraMotionWatch {
   struct Step;
   void Launch(std::function<void(Step*)> work);
   std::optional<CameraUpdate> Finish(Step& step);
+  // Rewrites OUT/camera_motion.yaml at once (the status command reads it while the job runs);
+  // a file that cannot be written is a warning in the log.
   void WriteStatus() const;
 
   CameraMotionWatchOptions options_;

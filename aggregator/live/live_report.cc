@@ -12,6 +12,7 @@
 #include "aggregator/report/html_table.h"
 #include "aggregator/report/mesh_viewer.h"
 #include "aggregator/report/report_sections.h"
+#include "shared/io/replace_yaml.h"
 #include "shared/util/check.h"
 
 namespace silnet::aggregator {
@@ -120,9 +121,8 @@ std::string HullsSection(const LiveJobResult& r) {
   return html + table.ToHtml();
 }
 
-void WriteSummaryYaml(const std::filesystem::path& path, const LiveJobResult& r) {
-  cv::FileStorage fs(path.string(), cv::FileStorage::WRITE);
-  if (!fs.isOpened()) throw InputError("cannot write " + path.string());
+// The summary's keys, for live_summary.yaml.
+void WriteSummary(cv::FileStorage& fs, const LiveJobResult& r) {
   fs << "failure" << r.failure << "seconds" << r.seconds;
   fs << "cameras" << static_cast<int>(r.cameras.size());
   fs << "frames_held" << static_cast<double>(r.ingest.stored) << "frames_missing"
@@ -176,6 +176,10 @@ void WriteSummaryYaml(const std::filesystem::path& path, const LiveJobResult& r)
     }
     fs << "}";
   }
+}
+
+void WriteSummaryYaml(const std::filesystem::path& path, const LiveJobResult& r) {
+  ReplaceYaml(path, [&](cv::FileStorage& fs) { WriteSummary(fs, r); });
 }
 
 // The stills the nodes sent on command and the stereo model built from them, with its

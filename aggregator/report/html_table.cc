@@ -2,9 +2,9 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
 #include <utility>
 
+#include "shared/io/replace_file.h"
 #include "shared/util/check.h"
 
 namespace silnet::aggregator {
@@ -31,13 +31,10 @@ std::string Section(const std::string& title, const std::string& body) {
 
 void WriteHtmlPage(const std::filesystem::path& path, const std::string& title,
                    const std::string& body) {
-  std::ofstream out(path, std::ios::binary);
-  out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>"
-      << EscapeHtml(title) << "</title>\n<style>" << kStyle << "</style>\n</head>\n<body>\n<h1>"
-      << EscapeHtml(title) << "</h1>\n"
-      << body << "</body>\n</html>\n";
-  out.flush();
-  if (!out) throw InputError(fmt::format("cannot write report '{}'", path.string()));
+  ReplaceFile(path, fmt::format("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta "
+                                "charset=\"utf-8\">\n<title>{0}</title>\n<style>{1}</style>\n</"
+                                "head>\n<body>\n<h1>{0}</h1>\n{2}</body>\n</html>\n",
+                                EscapeHtml(title), kStyle, body));
 }
 
 std::string EscapeHtml(std::string_view text) {

@@ -15,7 +15,8 @@ std::string EscapeHtml(std::string_view text);
 std::string Section(const std::string& title, const std::string& body);
 
 // Writes a self-contained page: the reports' style sheet, <h1>`title`</h1> and `body`
-// (HTML). Throws InputError naming the path if it cannot be written.
+// (HTML), replacing `path` at once (a browser reloading it never reads half a page). Throws
+// InputError naming the path if it cannot be written.
 void WriteHtmlPage(const std::filesystem::path& path, const std::string& title,
                    const std::string& body);
 

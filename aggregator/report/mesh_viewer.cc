@@ -4,10 +4,10 @@
 
 #include <algorithm>
 #include <cctype>
-#include <fstream>
 #include <system_error>
 
 #include "aggregator/report/html_table.h"
+#include "shared/io/replace_file.h"
 #include "shared/util/check.h"
 
 namespace silnet::aggregator {
@@ -181,15 +181,14 @@ void WriteViewerMesh(const fs::path& report_dir, const std::string& name, const 
   SILNET_CHECK_MSG(IsPlainName(name), "viewer mesh name '" << name << "'");
   SILNET_CHECK(mesh.normals.size() == mesh.positions.size());
   static_assert(sizeof(Eigen::Vector3f) == 12 && sizeof(std::array<uint32_t, 3>) == 12);
-  const fs::path path = report_dir / "viewer" / (name + ".js");
-  std::ofstream out(path);
-  if (!out) throw InputError(fmt::format("cannot write {}", path.string()));
-  out << "window.silnetMeshes = window.silnetMeshes || {};\n"
-      << "window.silnetMeshes['" << name << "'] = {triangles: " << mesh.triangles.size()
-      << ",\n positions: '" << Base64(mesh.positions.data(), 12 * mesh.positions.size())
-      << "',\n normals: '" << Base64(mesh.normals.data(), 12 * mesh.normals.size())
-      << "',\n indices: '" << Base64(mesh.triangles.data(), 12 * mesh.triangles.size()) << "'};\n";
-  if (!out) throw InputError(fmt::format("cannot write {}", path.string()));
+  ReplaceFile(report_dir / "viewer" / (name + ".js"),
+              fmt::format("window.silnetMeshes = window.silnetMeshes || {{}};\n"
+                          "window.silnetMeshes['{}'] = {{triangles: {},\n positions: '{}',\n "
+                          "normals: '{}',\n indices: '{}'}};\n",
+                          name, mesh.triangles.size(),
+                          Base64(mesh.positions.data(), 12 * mesh.positions.size()),
+                          Base64(mesh.normals.data(), 12 * mesh.normals.size()),
+                          Base64(mesh.triangles.data(), 12 * mesh.triangles.size())));
 }
 
 std::string MeshViewerHtml(const std::string& id, const std::vector<ViewerLayer>& layers,

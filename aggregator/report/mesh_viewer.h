@@ -31,7 +31,8 @@ std::string InstallMeshViewer(const std::filesystem::path& report_dir,
                               const std::filesystem::path& three_dir = kThreeJsDir);
 
 // Writes `report_dir`/viewer/`name`.js registering `mesh` as window.silnetMeshes[name]
-// (`name`: letters, digits, '_' or '-'). Throws InputError naming the path if it cannot.
+// (`name`: letters, digits, '_' or '-'), replacing an older one at once. Throws InputError
+// naming the path if it cannot.
 void WriteViewerMesh(const std::filesystem::path& report_dir, const std::string& name,
                      const DisplayMesh& mesh);
 

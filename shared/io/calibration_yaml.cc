@@ -8,6 +8,7 @@
 #include <opencv2/core/eigen.hpp>
 #include <sstream>
 
+#include "shared/io/replace_yaml.h"
 #include "shared/io/yaml_guard.h"
 #include "shared/util/check.h"
 
@@ -164,10 +165,10 @@ cv::FileStorage OpenYamlForReading(const std::filesystem::path& path,
 }
 
 void SaveCalibration(const std::filesystem::path& path, const std::vector<CameraModel>& cameras) {
-  cv::FileStorage storage(path.string(), cv::FileStorage::WRITE);
-  if (!storage.isOpened()) throw InputError(path.string() + ": cannot write");
-  storage << "silnet_calibration_version" << kCalibrationVersion;
-  WriteCameras(storage, cameras);
+  ReplaceYaml(path, [&](cv::FileStorage& storage) {
+    storage << "silnet_calibration_version" << kCalibrationVersion;
+    WriteCameras(storage, cameras);
+  });
 }
 
 std::vector<CameraModel> LoadCalibration(const std::filesystem::path& path) {

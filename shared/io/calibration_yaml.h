@@ -29,7 +29,8 @@ void WriteCameras(cv::FileStorage& storage, const std::vector<CameraModel>& came
 // missing field, a matrix of the wrong size, a non-rotation R or a non-positive focal length.
 std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::string& source);
 
-// Writes calibration.yaml (format version 1) with the given cameras.
+// Writes calibration.yaml (format version 1) with the given cameras, replacing an older one at
+// once (a reader never sees half of it). Throws InputError if it cannot be written.
 void SaveCalibration(const std::filesystem::path& path, const std::vector<CameraModel>& cameras);
 
 // Reads calibration.yaml (or any file with a `cameras` block, such as ground_truth.yaml).
