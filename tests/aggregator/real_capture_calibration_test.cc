@@ -3,6 +3,7 @@
 // calibration as the reference), and the parts that make it hold on real data: the sanity
 // gates, triplet consistency, and clear errors for incomplete pairwise results.
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -26,6 +27,7 @@
 #include "shared/geometry/epipolar.h"
 #include "shared/io/calibration_yaml.h"
 #include "shared/util/check.h"
+#include "tests/support/real_data.h"
 #include "tests/support/temp_dir.h"
 
 namespace silnet::aggregator {
@@ -173,7 +175,7 @@ CalibrateJobResult CalibrateUtrecht(bool with_intrinsics, const testing::TempDir
 }
 
 TEST(RealCaptureCalibration, UtrechtWithCheckerboardIntrinsics) {
-  if (!std::filesystem::exists(kUtrecht)) GTEST_SKIP() << "no real data at " << kUtrecht;
+  SILNET_REQUIRE_REAL_DATA(kUtrecht);
   testing::TempDir dir;
   const CalibrateJobResult result = CalibrateUtrecht(true, dir);
   ASSERT_TRUE(result.errors.has_value());
@@ -199,7 +201,7 @@ TEST(RealCaptureCalibration, UtrechtWithCheckerboardIntrinsics) {
 // (which no choice of world frame changes) differs between any two of seeds 1-10 by at most
 // 0.23 deg, against 0.62 deg with a single round.
 TEST(RealCaptureCalibration, UtrechtWithCheckerboardIntrinsicsWhateverTheSeed) {
-  if (!std::filesystem::exists(kUtrecht)) GTEST_SKIP() << "no real data at " << kUtrecht;
+  SILNET_REQUIRE_REAL_DATA(kUtrecht);
   std::vector<std::vector<CameraModel>> results;
   for (const uint64_t seed : {5u, 6u, 7u}) {
     SCOPED_TRACE(::testing::Message() << "seed " << seed);
@@ -230,7 +232,7 @@ TEST(RealCaptureCalibration, UtrechtWithCheckerboardIntrinsicsWhateverTheSeed) {
 // tangents no pinhole F fits within 2 px: the local fits accept 3 px there. With 2 px, seeds
 // 2-4 left 2 of 6 pairs failed and calibrated no camera at all (seeds 1, 5, 6 all four).
 TEST(RealCaptureCalibration, UtrechtWithoutAnyCalibration) {
-  if (!std::filesystem::exists(kUtrecht)) GTEST_SKIP() << "no real data at " << kUtrecht;
+  SILNET_REQUIRE_REAL_DATA(kUtrecht);
   // Seed 7's self-calibrated start diverges in the adjustment (every camera fails the sanity
   // gates); the focal length search then gives the second start that calibrates all four.
   for (const uint64_t seed : {3u, 4u, 7u}) {
@@ -261,7 +263,7 @@ TEST(RealCaptureCalibration, UtrechtWithoutAnyCalibration) {
 TEST(RealCaptureCalibration, UtrechtSeatedIsReportedAsTooLittleMotion) {
   const std::filesystem::path seated =
       std::filesystem::path(SILNET_SHARED_DATA_DIR) / "utrecht-seated-4cam";
-  if (!std::filesystem::exists(seated)) GTEST_SKIP() << "no real data at " << seated;
+  SILNET_REQUIRE_REAL_DATA(seated);
   testing::TempDir dir;
   CalibrateJobConfig config;
   config.input = seated;
@@ -340,12 +342,9 @@ TEST(PairsYaml, ReusingPairsWithoutTheirMatchesIsAClearError) {
   p.inlier_matches.push_back(m);
   result.pairs.push_back(p);
   WritePairsYaml(dir / "pairs.yaml", result);
-  try {
-    ReadPairsYaml(dir / "pairs.yaml", dir / "matches");
-    FAIL() << "no error without matches/";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("matches"), std::string::npos) << e.what();
-  }
+  EXPECT_THAT([&] { ReadPairsYaml(dir / "pairs.yaml", dir / "matches"); },
+              ::testing::ThrowsMessage<InputError>(::testing::HasSubstr("matches")))
+      << "without matches/";
   WriteMatchesCsv(dir / "matches", result);
   EXPECT_EQ(ReadPairsYaml(dir / "pairs.yaml", dir / "matches").front().inlier_matches.size(), 1u);
 }
@@ -356,12 +355,9 @@ TEST(PairsYaml, MalformedPairsAreClearErrors) {
   testing::TempDir dir;
   const auto refused = [&](const std::string& text, const std::string& fragment) {
     std::ofstream(dir / "pairs.yaml") << "%YAML:1.0\n---\n" << text;
-    try {
-      ReadPairsYaml(dir / "pairs.yaml", {});
-      ADD_FAILURE() << "accepted " << text;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
+    EXPECT_THAT([&] { ReadPairsYaml(dir / "pairs.yaml", {}); },
+                ::testing::ThrowsMessage<InputError>(::testing::HasSubstr(fragment)))
+        << text;
   };
   const std::string f =
       "F: !!opencv-matrix { rows: 3, cols: 3, dt: d, data: [0, 0, 1, 0, 0, 0, -1, 0, 0] }";

@@ -1,5 +1,6 @@
 #include "node/publish/frame_recorder.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/resource.h>
@@ -62,12 +63,8 @@ TEST(FrameRecorder, AFullDiskPausesRecordingAndNothingIsLostWhenSpaceReturns) {
 
 TEST(FrameRecorder, AnUnwritableFolderIsAClearError) {
   FrameRecorder recorder("/proc/silnet-cannot-create", "cam00");
-  try {
-    recorder.Open();
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("/proc/silnet-cannot-create"), std::string::npos);
-  }
+  EXPECT_THAT([&] { recorder.Open(); }, ::testing::ThrowsMessage<InputError>(
+                                            ::testing::HasSubstr("/proc/silnet-cannot-create")));
 }
 
 TEST(FrameHistory, KeepsTheNewestFramesInOrder) {

@@ -1,5 +1,6 @@
 #include "shared/io/calibration_yaml.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -54,12 +55,9 @@ TEST(CalibrationYaml, RoundTripsEveryField) {
 
 // Expects LoadCalibration to throw InputError whose message contains `fragment`.
 void ExpectRejected(const std::filesystem::path& path, const std::string& fragment) {
-  try {
-    LoadCalibration(path);
-    FAIL() << "accepted " << path;
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-  }
+  EXPECT_THAT([&] { LoadCalibration(path); },
+              ::testing::ThrowsMessage<InputError>(::testing::HasSubstr(fragment)))
+      << path;
 }
 
 TEST(CalibrationYaml, RejectsMissingAndMalformedFilesWithReasons) {
@@ -148,14 +146,9 @@ TEST(CalibrationYaml, RefusesFilesTheParserLoopsOnOrCrashesOn) {
 
   testing::TempDir dir;
   WriteText(dir / "loops.yaml", loops);
-  try {
-    OpenYamlForReading(dir / "loops.yaml", std::chrono::milliseconds(300));
-    FAIL() << "opened a file the parser loops on";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("not a silnet file: OpenCV's YAML parser does not finish"),
-              std::string::npos)
-        << e.what();
-  }
+  EXPECT_THAT([&] { OpenYamlForReading(dir / "loops.yaml", std::chrono::milliseconds(300)); },
+              ::testing::ThrowsMessage<InputError>(
+                  ::testing::HasSubstr("not a silnet file: OpenCV's YAML parser does not finish")));
 }
 
 // OpenCV's parser recurses once per nesting level: without the guard these files of a few
@@ -214,12 +207,8 @@ TEST(CalibrationYaml, CamerasAtAFrameApplyTheMovesUpToIt) {
     WriteCameras(fs, cameras);
     WriteCameraMoves(fs, {{10, stranger}});
   }
-  try {
-    LoadCamerasAtFrame(dir / "bad.yaml", 20);
-    FAIL() << "accepted a move of an unknown camera";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("unknown camera cam07"), std::string::npos) << e.what();
-  }
+  EXPECT_THAT([&] { LoadCamerasAtFrame(dir / "bad.yaml", 20); },
+              ::testing::ThrowsMessage<InputError>(::testing::HasSubstr("unknown camera cam07")));
 }
 
 }  // namespace

@@ -1,6 +1,9 @@
 // Visual hulls of real captures (the shared data folder, see its README.md) and the `hulls`
 // sequence job on a small simulated dataset with sub-frame time offsets.
 
+#include "tests/support/real_data.h"
+
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -109,17 +112,6 @@ RealHull CarveAndMeasure(const RealCapture& capture, const std::string& name) {
   return result;
 }
 
-// Expects `load` to throw InputError with `fragment` in its message.
-template <typename Load>
-void ExpectRefused(const Load& load, const std::string& fragment) {
-  try {
-    load();
-    ADD_FAILURE() << "accepted input that should be refused for: " << fragment;
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-  }
-}
-
 // A 10x2 raster: row 0 bits 1 at x = 0 and 9, row 1 all 0; each row padded to two bytes.
 TEST(RealDataHullTest, ReadPbmReadsBitsAndRefusesBadHeaders) {
   silnet::testing::TempDir dir;
@@ -135,7 +127,8 @@ TEST(RealDataHullTest, ReadPbmReadsBitsAndRefusesBadHeaders) {
   EXPECT_EQ(mask.at<uint8_t>(0, 9), 255);
   EXPECT_EQ(cv::countNonZero(ReadPbm(dir / "ok.pbm", 0)), 18);
   const auto refused = [&](const std::filesystem::path& path, const std::string& fragment) {
-    ExpectRefused([&] { ReadPbm(path, 1); }, fragment);
+    EXPECT_THAT([&] { ReadPbm(path, 1); },
+                ::testing::ThrowsMessage<InputError>(::testing::HasSubstr(fragment)));
   };
   refused(write("wide.pbm", "P4\n2147483647 1\n"), "bad PBM size 2147483647x1");
   refused(write("huge.pbm", "P4\n60000 60000\n"), "truncated at row 0");
@@ -169,7 +162,8 @@ TEST(RealDataHullTest, UtrechtCamerasAreReadAndNonFiniteOrMalformedValuesRefused
   EXPECT_DOUBLE_EQ(cameras[0].t.z(), 3000.0);
   EXPECT_NEAR(cameras[0].R(0, 2), std::sin(0.1), 1e-12);
   const auto refused = [&](const std::string& fragment) {
-    ExpectRefused([&] { LoadUtrechtCameras(dir.path(), 25.0); }, fragment);
+    EXPECT_THAT([&] { LoadUtrechtCameras(dir.path(), 25.0); },
+                ::testing::ThrowsMessage<InputError>(::testing::HasSubstr(fragment)));
   };
   write(k, {1, std::nan(""), 3000});
   refused("Translation holds a value that is not finite");
@@ -183,7 +177,7 @@ TEST(RealDataHullTest, UtrechtCamerasAreReadAndNonFiniteOrMalformedValuesRefused
 
 TEST(RealDataHullTest, InriaDancer) {
   const std::filesystem::path folder = kData / "inria-dancer-silhouettes";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   RealCapture capture = LoadInriaDancer(folder);
   ASSERT_EQ(capture.cameras.size(), 8u);
   // Views 2, 3, 4 and 6 hold stray foreground blobs away from the dancer that no other view
@@ -195,7 +189,7 @@ TEST(RealDataHullTest, InriaDancer) {
 
 TEST(RealDataHullTest, TsinghuaWd2) {
   const std::filesystem::path folder = kData / "tsinghua-wd2-20cam";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   const RealCapture capture = LoadTsinghuaWd2(folder, false);
   ASSERT_EQ(capture.cameras.size(), 20u);
   // Measured worst raw miss 2.03 % (wd2_01); the file's radial coefficients change it by
@@ -230,7 +224,7 @@ void CheckPolyhedral(const RealCapture& capture, const std::string& name) {
 
 TEST(RealDataHullTest, PolyhedralHullOfTheDancer) {
   const std::filesystem::path folder = kData / "inria-dancer-silhouettes";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   RealCapture capture = LoadInriaDancer(folder);
   for (cv::Mat& mask : capture.masks)
     mask = KeepLargestComponent(mask);
@@ -239,7 +233,7 @@ TEST(RealDataHullTest, PolyhedralHullOfTheDancer) {
 
 TEST(RealDataHullTest, PolyhedralHullOfWd2) {
   const std::filesystem::path folder = kData / "tsinghua-wd2-20cam";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   CheckPolyhedral(LoadTsinghuaWd2(folder, false), "wd2");
 }
 
@@ -248,7 +242,7 @@ TEST(RealDataHullTest, PolyhedralHullOfWd2) {
 // on a real capture too (WD2: 4 near-degenerate slivers).
 TEST(RealDataHullTest, ThreadsGiveTheSameMeshOnWd2) {
   const std::filesystem::path folder = kData / "tsinghua-wd2-20cam";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   const RealCapture capture = LoadTsinghuaWd2(folder, false);
   hull_testing::ExpectSameHullOnThreads(capture.cameras, capture.masks, 2);
 }
@@ -259,7 +253,7 @@ TEST(RealDataHullTest, ThreadsGiveTheSameMeshOnWd2) {
 // with the widest one's width.
 TEST(RealDataHullTest, GapsWiderThanAllowedAreRefused) {
   const std::filesystem::path folder = kData / "tsinghua-wd2-20cam";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   const RealCapture capture = LoadTsinghuaWd2(folder, false);
   PolyhedralHullOptions options;
   options.widest_gap_fraction = 1e-6;
@@ -277,7 +271,7 @@ TEST(RealDataHullTest, GapsWiderThanAllowedAreRefused) {
 // 24 and 26 % in view 16), so its coverage is asserted with the 4 views only.
 TEST(RealDataHullTest, PolyhedralHullOfEpvhAlienClosesForEveryViewCount) {
   const std::filesystem::path folder = kData / "epvh-alien-24cam";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   const RealCapture all = LoadEpvhAlien(folder);
   ASSERT_EQ(all.cameras.size(), 24u);
   EXPECT_THROW(LoadEpvhAlien(folder, 25), InputError);
@@ -352,7 +346,7 @@ void CheckCoveringHull(const RealCapture& capture, const std::string& name, bool
 
 TEST(RealDataHullTest, CoveringHullOfTheDancer) {
   const std::filesystem::path folder = kData / "inria-dancer-silhouettes";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   RealCapture capture = LoadInriaDancer(folder);
   for (cv::Mat& mask : capture.masks)
     mask = KeepLargestComponent(mask);
@@ -363,7 +357,7 @@ TEST(RealDataHullTest, CoveringHullOfTheDancer) {
 
 TEST(RealDataHullTest, CoveringHullOfWd2) {
   const std::filesystem::path folder = kData / "tsinghua-wd2-20cam";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   // Not closed yet: 20 views of covering contours give 3.4 times the cone faces and more
   // near-degenerate configurations than the gap filler closes, as do the default contours at
   // 0.2-0.4 px tolerance (docs/PERFORMANCE.md); the figures are those of the mesh with its
@@ -542,12 +536,9 @@ TEST(HullSequenceJobTest, ContoursHeldInMemoryGiveTheHullsOfTheStore) {
   // A frame the batch needs that was dropped is a clear error, not a hole in the hull.
   for (const CameraModel& camera : data.cameras)
     held.DropBefore(camera.id, 8);
-  try {
-    RunHullSequenceJob(config, held, nullptr);
-    ADD_FAILURE() << "the frames were dropped, yet the job ran";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("in memory"), std::string::npos) << e.what();
-  }
+  EXPECT_THAT([&] { RunHullSequenceJob(config, held, nullptr); },
+              ::testing::ThrowsMessage<InputError>(::testing::HasSubstr("in memory")))
+      << "the frames were dropped";
 }
 
 TEST(HullSequenceJobTest, AFrameWithoutContourIsAClearError) {
@@ -556,13 +547,10 @@ TEST(HullSequenceJobTest, AFrameWithoutContourIsAClearError) {
   HullSequenceConfig config = data.Config(5, 8);
   config.input = data.dir / "store";
   config.options.interpolate = false;
-  try {
-    RunHullSequenceJob(config, nullptr);
-    ADD_FAILURE() << "frame 6 is missing, yet the job ran";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("frame 6 of session 7 has no contour"), std::string::npos)
-        << e.what();
-  }
+  EXPECT_THAT([&] { RunHullSequenceJob(config, nullptr); },
+              ::testing::ThrowsMessage<InputError>(
+                  ::testing::HasSubstr("frame 6 of session 7 has no contour")))
+      << "frame 6 is missing";
 }
 
 TEST(HullSequenceJobTest, ByDefaultWritesClosedExactPolyhedralHulls) {
@@ -603,29 +591,25 @@ TEST(HullSequenceJobTest, LeavesOutCamerasTheCalibrationCouldNotPlace) {
 
 TEST(HullSequenceJobTest, ReportsUnusableInputClearly) {
   const SimulatedDataset data;
-  auto message = [](const HullSequenceConfig& config) {
-    try {
-      RunHullSequenceJob(config, nullptr);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
+  const auto refused = [](const HullSequenceConfig& config, const std::string& fragment) {
+    EXPECT_THAT([&] { RunHullSequenceJob(config, nullptr); },
+                ::testing::ThrowsMessage<InputError>(::testing::HasSubstr(fragment)));
   };
-  EXPECT_NE(message(data.Config(14, 40)).find("out of range"), std::string::npos);
-  EXPECT_NE(message(data.Config(3, 3)).find("empty"), std::string::npos);
+  refused(data.Config(14, 40), "out of range");
+  refused(data.Config(3, 3), "empty");
 
   std::vector<CameraModel> renamed = data.cameras;
   renamed[1].id = "elsewhere";
   HullSequenceConfig config = data.Config(5, 6);
   config.calibration = data.dir / "renamed.yaml";
   SaveCalibration(config.calibration, renamed);
-  EXPECT_NE(message(config).find("camera elsewhere"), std::string::npos) << message(config);
+  refused(config, "camera elsewhere");
 
   std::vector<CameraModel> resized = data.cameras;
   resized[2].width += 2;
   config.calibration = data.dir / "resized.yaml";
   SaveCalibration(config.calibration, resized);
-  EXPECT_NE(message(config).find("but the calibration of"), std::string::npos) << message(config);
+  refused(config, "but the calibration of");
 }
 
 }  // namespace

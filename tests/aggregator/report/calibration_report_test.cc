@@ -1,5 +1,6 @@
 #include "aggregator/report/calibration_report.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -162,12 +163,8 @@ TEST(CalibrationReport, UnwritableFolderThrowsInputErrorNamingThePath) {
   ::silnet::testing::TempDir dir;
   std::ofstream(dir / "blocker") << "a file, not a folder";
   const std::filesystem::path target = dir / "blocker" / "report";
-  try {
-    WriteCalibrationReport(target, testing::MakeTestCalibration());
-    FAIL() << "no exception";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(target.string()), std::string::npos) << e.what();
-  }
+  EXPECT_THAT([&] { WriteCalibrationReport(target, testing::MakeTestCalibration()); },
+              ::testing::ThrowsMessage<InputError>(::testing::HasSubstr(target.string())));
 }
 
 // The views' "up" is the world's up for level rigs, whatever the reconstruction's frame.

@@ -1,5 +1,6 @@
 #include "aggregator/report/colmap_export.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -257,12 +258,8 @@ TEST(ColmapExport, UnwritableFolderThrowsInputErrorNamingThePath) {
   ::silnet::testing::TempDir dir;
   std::ofstream(dir / "blocker") << "a file, not a folder";
   const std::filesystem::path target = dir / "blocker" / "model";
-  try {
-    WriteColmapText(target, testing::MakeTestCalibration());
-    FAIL() << "no exception";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(target.string()), std::string::npos) << e.what();
-  }
+  EXPECT_THAT([&] { WriteColmapText(target, testing::MakeTestCalibration()); },
+              ::testing::ThrowsMessage<InputError>(::testing::HasSubstr(target.string())));
 }
 
 }  // namespace

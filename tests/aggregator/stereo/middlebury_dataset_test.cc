@@ -16,6 +16,7 @@
 #include "aggregator/stereo/model_evaluation.h"
 #include "aggregator/stereo/stereo_hull.h"
 #include "aggregator/stereo/stills_folder.h"
+#include "tests/support/real_data.h"
 #include "tests/support/temp_dir.h"
 
 namespace silnet::aggregator {
@@ -65,7 +66,7 @@ void ExpectHullAgreesWithSilhouettes(const StereoViews& views, const std::string
 
 TEST(MiddleburyDatasetTest, DinoLoadsSixteenViews) {
   const std::filesystem::path folder = kData / "middlebury-dinoSparseRing";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   const StereoViews views = LoadMiddlebury(folder);
   ASSERT_EQ(views.views.size(), 16u);
   EXPECT_EQ(views.views[0].camera.id, "dinoSR0001");
@@ -85,7 +86,7 @@ TEST(MiddleburyDatasetTest, DinoLoadsSixteenViews) {
 
 TEST(MiddleburyDatasetTest, TempleLoadsSixteenViews) {
   const std::filesystem::path folder = kData / "middlebury-templeSparseRing";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   const StereoViews views = LoadMiddlebury(folder);
   ASSERT_EQ(views.views.size(), 16u);
   EXPECT_TRUE(views.warnings.empty());
@@ -102,7 +103,7 @@ TEST(MiddleburyDatasetTest, TempleLoadsSixteenViews) {
 // 3.6 % in views 1-3, which did not carve the hull.
 TEST(MiddleburyDatasetTest, DinoSilhouettesAgreeWithTheCameras) {
   const std::filesystem::path folder = kData / "middlebury-dinoSparseRing";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   Limits limits;
   limits.missed_far = 0.016;
   limits.extra = 0.004;
@@ -117,7 +118,7 @@ TEST(MiddleburyDatasetTest, DinoSilhouettesAgreeWithTheCameras) {
 // 0.27 %.
 TEST(MiddleburyDatasetTest, TempleSilhouettesAgreeWithTheCameras) {
   const std::filesystem::path folder = kData / "middlebury-templeSparseRing";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   Limits limits;
   limits.missed_far = 0.008;
   limits.extra = 0.005;
@@ -170,7 +171,7 @@ TEST(MiddleburyDatasetTest, FillsShadowPocketsAndKeepsGapsThatShowTheBackdrop) {
 // temple's lit backdrop cloth into views 1, 10, 11 and 14, where it reaches the image border.
 TEST(MiddleburyDatasetTest, TheGenericThresholdTakesTheTemplesBackdrop) {
   const std::filesystem::path folder = kData / "middlebury-templeSparseRing";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   const StereoViews generic = LoadMiddlebury(folder, DarkBackgroundOptions{});
   const StereoViews preset = LoadMiddlebury(folder);
   int generic_touching = 0, preset_touching = 0;
@@ -186,7 +187,7 @@ TEST(MiddleburyDatasetTest, TheGenericThresholdTakesTheTemplesBackdrop) {
 
 TEST(MiddleburyDatasetTest, ExportsAStillsFolderThatLoadsBack) {
   const std::filesystem::path folder = kData / "middlebury-dinoSparseRing";
-  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no real data at " << folder;
+  SILNET_REQUIRE_REAL_DATA(folder);
   const silnet::testing::TempDir dir;
   const StereoViews original = LoadMiddlebury(folder);
   const std::filesystem::path calibration = WriteMiddleburyAsStillsFolder(folder, dir / "dino");

@@ -1,5 +1,6 @@
 #include "node/capture/files/image_folder_source.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -241,24 +242,18 @@ TEST(ImageFolderSource, MissingOrEmptyFolderThrowsNamingThePath) {
   ImageFolderSourceOptions options;
   options.folder = missing;
   ImageFolderSource missing_source(options);
-  try {
-    missing_source.Open();
-    FAIL() << "Open() of a missing folder did not throw";
-  } catch (const CaptureError& error) {
-    EXPECT_NE(std::string(error.what()).find(missing.string()), std::string::npos) << error.what();
-  }
+  EXPECT_THAT([&] { missing_source.Open(); },
+              ::testing::ThrowsMessage<CaptureError>(::testing::HasSubstr(missing.string())))
+      << "Open() of a missing folder";
 
   const std::filesystem::path empty = dir / "empty";
   std::filesystem::create_directory(empty);
   std::ofstream(empty / "readme.txt") << "no images here";
   options.folder = empty;
   ImageFolderSource empty_source(options);
-  try {
-    empty_source.Open();
-    FAIL() << "Open() of a folder without images did not throw";
-  } catch (const CaptureError& error) {
-    EXPECT_NE(std::string(error.what()).find(empty.string()), std::string::npos) << error.what();
-  }
+  EXPECT_THAT([&] { empty_source.Open(); },
+              ::testing::ThrowsMessage<CaptureError>(::testing::HasSubstr(empty.string())))
+      << "Open() of a folder without images";
 }
 
 TEST(ImageFolderSource, UnpacedTimestampsFollowTheFrameRate) {

@@ -1,5 +1,6 @@
 #include "node/capture/files/video_file_source.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -183,23 +184,17 @@ TEST(VideoFileSource, UnopenableVideoThrowsNamingTheFile) {
   VideoFileSourceOptions options;
   options.file = missing;
   VideoFileSource missing_source(options);
-  try {
-    missing_source.Open();
-    FAIL() << "Open() of a missing video did not throw";
-  } catch (const CaptureError& error) {
-    EXPECT_NE(std::string(error.what()).find(missing.string()), std::string::npos) << error.what();
-  }
+  EXPECT_THAT([&] { missing_source.Open(); },
+              ::testing::ThrowsMessage<CaptureError>(::testing::HasSubstr(missing.string())))
+      << "Open() of a missing video";
 
   const std::filesystem::path garbage = dir / "garbage.avi";
   std::ofstream(garbage) << "this is not a video";
   options.file = garbage;
   VideoFileSource garbage_source(options);
-  try {
-    garbage_source.Open();
-    FAIL() << "Open() of a file that is not a video did not throw";
-  } catch (const CaptureError& error) {
-    EXPECT_NE(std::string(error.what()).find(garbage.string()), std::string::npos) << error.what();
-  }
+  EXPECT_THAT([&] { garbage_source.Open(); },
+              ::testing::ThrowsMessage<CaptureError>(::testing::HasSubstr(garbage.string())))
+      << "Open() of a file that is not a video";
 }
 
 }  // namespace
