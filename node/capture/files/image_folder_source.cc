@@ -114,8 +114,8 @@ cv::Mat ImageFolderSource::Decode(size_t position) const {
   }
 }
 
-ImageFolderSource::Pending ImageFolderSource::Make(size_t position, cv::Mat image) const {
-  Pending pending;
+ReplayedFrame ImageFolderSource::Make(size_t position, cv::Mat image) const {
+  ReplayedFrame pending;
   pending.position = position;
   const std::string name = files_[position].string();
   if (image.empty()) {
@@ -138,27 +138,8 @@ CaptureStatus ImageFolderSource::Read(CapturedFrame* frame, std::chrono::millise
     pending_ = Make(next_, Decode(next_));
     ++next_;
   }
-  const uint64_t position = pending_->position;
-  if (options_.real_time) {
-    const int64_t limit =
-        RealtimeNowNs() + std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
-    if (!pacer_->WaitForUntil(position, limit)) return CaptureStatus::kTimeout;
-  }
-
-  Pending released = std::move(*pending_);
-  pending_.reset();
-  frame->frame_index = options_.first_frame + position;
-  frame->capture_time_ns = pacer_ ? pacer_->DueTimeNs(position) : RealtimeNowNs();
-  if (!released.error.empty()) {
-    frame->image = cv::Mat();
-    last_error_ = std::move(released.error);
-    ++counters_.errors;
-    ++counters_.dropped;
-    return CaptureStatus::kFrameError;
-  }
-  frame->image = std::move(released.image);
-  ++counters_.frames;
-  return CaptureStatus::kFrame;
+  return DeliverReplayedFrame(&pending_, pacer_, options_.real_time, options_.first_frame, timeout,
+                              frame, &counters_, &last_error_);
 }
 
 void ImageFolderSource::Close() {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "node/capture/capture_source.h"
+#include "node/capture/files/replayed_frame.h"
 #include "node/capture/frame_pacer.h"
 
 namespace silnet::node {
@@ -77,24 +78,17 @@ class ImageFolderSource : public CaptureSource {
   const std::vector<std::filesystem::path>& Files() const { return files_; }
 
  private:
-  // A decoded image, or the reason it could not be delivered, waiting for its due time.
-  struct Pending {
-    size_t position = 0;  // index into files_
-    cv::Mat image;        // empty if `error` is set
-    std::string error;
-  };
-
   // Decodes files_[position] (empty if it cannot be read).
   cv::Mat Decode(size_t position) const;
   // Checks a decoded image against the expected size and type.
-  Pending Make(size_t position, cv::Mat image) const;
+  ReplayedFrame Make(size_t position, cv::Mat image) const;
 
   ImageFolderSourceOptions options_;
   bool open_ = false;
   std::vector<std::filesystem::path> files_;
-  size_t next_ = 0;  // next position of files_ to load
-  std::optional<Pending> pending_;
-  std::optional<FramePacer> pacer_;  // set when fps > 0
+  size_t next_ = 0;                       // next position of files_ to load
+  std::optional<ReplayedFrame> pending_;  // position: index into files_
+  std::optional<FramePacer> pacer_;       // set when fps > 0
   CaptureFormat format_;
   CaptureCounters counters_;
   std::string last_error_;

@@ -136,9 +136,9 @@ bool VideoFileSource::DecodeNext() {
   return true;
 }
 
-VideoFileSource::Pending VideoFileSource::Make(uint64_t delivered, cv::Mat image) const {
-  Pending pending;
-  pending.delivered = delivered;
+ReplayedFrame VideoFileSource::Make(uint64_t delivered, cv::Mat image) const {
+  ReplayedFrame pending;
+  pending.position = delivered;
   const uint64_t index = options_.first_frame + delivered;
   if (image.depth() != CV_8U ||
       (image.channels() != 1 && image.channels() != 3 && image.channels() != 4)) {
@@ -162,27 +162,8 @@ CaptureStatus VideoFileSource::Read(CapturedFrame* frame, std::chrono::milliseco
   SILNET_CHECK_MSG(open_, "VideoFileSource::Read() before Open()");
   SILNET_CHECK(frame != nullptr);
   if (!pending_ && !DecodeNext()) return CaptureStatus::kEndOfStream;
-  const uint64_t delivered = pending_->delivered;
-  if (options_.real_time) {
-    const int64_t limit =
-        RealtimeNowNs() + std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
-    if (!pacer_->WaitForUntil(delivered, limit)) return CaptureStatus::kTimeout;
-  }
-
-  Pending released = std::move(*pending_);
-  pending_.reset();
-  frame->frame_index = options_.first_frame + delivered;
-  frame->capture_time_ns = pacer_ ? pacer_->DueTimeNs(delivered) : RealtimeNowNs();
-  if (!released.error.empty()) {
-    frame->image = cv::Mat();
-    last_error_ = std::move(released.error);
-    ++counters_.errors;
-    ++counters_.dropped;
-    return CaptureStatus::kFrameError;
-  }
-  frame->image = std::move(released.image);
-  ++counters_.frames;
-  return CaptureStatus::kFrame;
+  return DeliverReplayedFrame(&pending_, pacer_, options_.real_time, options_.first_frame, timeout,
+                              frame, &counters_, &last_error_);
 }
 
 void VideoFileSource::Close() {

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "node/capture/capture_source.h"
+#include "node/capture/files/replayed_frame.h"
 #include "node/capture/frame_pacer.h"
 
 namespace silnet::node {
@@ -73,24 +74,17 @@ class VideoFileSource : public CaptureSource {
   CaptureCounters Counters() const override { return counters_; }
 
  private:
-  // A decoded frame, or the reason it cannot be delivered, waiting for its due time.
-  struct Pending {
-    uint64_t delivered = 0;  // n: frames of this stream before this one (after first_frame)
-    cv::Mat image;           // empty if `error` is set
-    std::string error;
-  };
-
   // Decodes the next frame into pending_; false at the end of the stream.
   bool DecodeNext();
   // Checks a decoded frame against the expected size and converts it to BGR.
-  Pending Make(uint64_t delivered, cv::Mat image) const;
+  ReplayedFrame Make(uint64_t delivered, cv::Mat image) const;
 
   VideoFileSourceOptions options_;
   cv::VideoCapture capture_;
   bool open_ = false;
   bool ended_ = false;
   uint64_t decoded_ = 0;  // frames decoded since first_frame (delivered or pending)
-  std::optional<Pending> pending_;
+  std::optional<ReplayedFrame> pending_;
   std::optional<FramePacer> pacer_;  // set when the fps is known
   std::string codec_;                // the container's fourcc, e.g. "MJPG"
   std::string backend_;              // the OpenCV backend reading the file, e.g. "FFMPEG"

@@ -1,0 +1,39 @@
+#include "node/capture/files/replayed_frame.h"
+
+#include <utility>
+
+#include "shared/util/check.h"
+#include "shared/util/realtime_clock.h"
+
+namespace silnet::node {
+
+CaptureStatus DeliverReplayedFrame(std::optional<ReplayedFrame>* pending,
+                                   const std::optional<FramePacer>& pacer, bool real_time,
+                                   uint64_t first_frame, std::chrono::milliseconds timeout,
+                                   CapturedFrame* frame, CaptureCounters* counters,
+                                   std::string* last_error) {
+  SILNET_CHECK(pending->has_value());
+  SILNET_CHECK(!real_time || pacer.has_value());
+  const uint64_t position = (*pending)->position;
+  if (real_time) {
+    const int64_t limit =
+        RealtimeNowNs() + std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
+    if (!pacer->WaitForUntil(position, limit)) return CaptureStatus::kTimeout;
+  }
+  ReplayedFrame released = std::move(**pending);
+  pending->reset();
+  frame->frame_index = first_frame + position;
+  frame->capture_time_ns = pacer ? pacer->DueTimeNs(position) : RealtimeNowNs();
+  if (!released.error.empty()) {
+    frame->image = cv::Mat();
+    *last_error = std::move(released.error);
+    ++counters->errors;
+    ++counters->dropped;
+    return CaptureStatus::kFrameError;
+  }
+  frame->image = std::move(released.image);
+  ++counters->frames;
+  return CaptureStatus::kFrame;
+}
+
+}  // namespace silnet::node
