@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "aggregator/calibration/projective_geometry.h"
+#include "shared/io/yaml_guard.h"
 #include "shared/util/check.h"
 
 namespace silnet::aggregator {
@@ -22,6 +23,14 @@ std::ifstream OpenOrThrow(const std::filesystem::path& path, std::ios::openmode 
   std::ifstream in(path, mode);
   if (!in) throw InputError(fmt::format("cannot open {}", path.string()));
   return in;
+}
+
+// The whole of `path`. Throws InputError naming it if it cannot be opened.
+std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in = OpenOrThrow(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return std::move(text).str();
 }
 
 // Next whitespace-separated PBM header token, skipping '#' comments to the end of the line.
@@ -100,17 +109,23 @@ std::vector<CameraModel> LoadUtrechtCameras(const std::filesystem::path& folder,
   std::vector<CameraModel> cameras;
   for (const std::filesystem::path& dir : dirs) {
     const std::filesystem::path path = dir / "config.xml";
-    cv::FileStorage fs;
-    try {
-      fs.open(path.string(), cv::FileStorage::READ);
-    } catch (const cv::Exception& e) {
-      throw InputError(fmt::format("{}: {}", path.string(), e.what()));
-    }
+    // OpenCV's XML parser crashes on some malformed files: tried in a child process first.
+    const std::string text = ReadText(path);
+    const std::string problem = YamlParserProblem(text, kYamlParseLimit, "XML");
+    if (!problem.empty()) throw InputError(fmt::format("{}: {}", path.string(), problem));
+    const cv::FileStorage fs = ReadYamlGuarded(path, "malformed", [&] {
+      return cv::FileStorage(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+    });
     if (!fs.isOpened()) throw InputError(fmt::format("cannot open {}", path.string()));
-    const cv::Mat k = ReadMatrix(fs, {"camera_matrix", "CameraMatrix"}, 9, path);
-    const cv::Mat dist = ReadMatrix(fs, {"distortion_coefficients", "DistortionCoeffs"}, 5, path);
-    const cv::Mat rvec = ReadMatrix(fs, {"rotation_vectors", "Rotation"}, 3, path);
-    const cv::Mat tvec = ReadMatrix(fs, {"translation_vectors", "Translation"}, 3, path);
+    // OpenCV throws its own exception for a matrix node it cannot read (a bad type letter,
+    // text among the numbers): a malformed file like any other.
+    cv::Mat k, dist, rvec, tvec;
+    ReadYamlGuarded(path, "malformed", [&] {
+      k = ReadMatrix(fs, {"camera_matrix", "CameraMatrix"}, 9, path);
+      dist = ReadMatrix(fs, {"distortion_coefficients", "DistortionCoeffs"}, 5, path);
+      rvec = ReadMatrix(fs, {"rotation_vectors", "Rotation"}, 3, path);
+      tvec = ReadMatrix(fs, {"translation_vectors", "Translation"}, 3, path);
+    });
     CameraModel camera;
     camera.id = dir.filename().string();
     const cv::Size size = VideoFrameSize(dir);
@@ -226,12 +241,17 @@ RealCapture LoadEpvhAlien(const std::filesystem::path& folder, int views) {
       throw InputError(fmt::format("{}: camera {} is malformed", camera_path.string(), v));
     int index = -1, count = 0;
     contours >> index >> count;
-    if (!contours || index != v || count < 3)
+    // At most eight points per pixel of the image's perimeter (the set's longest contour has
+    // 11 608), not a count whose buffer cannot be allocated.
+    constexpr int kMaxPoints = 16 * (kWidth + kHeight);
+    if (!contours || index != v || count < 3 || count > kMaxPoints)
       throw InputError(fmt::format("{}: contour {} is malformed", contour_path.string(), v));
     std::vector<cv::Point> polygon(static_cast<size_t>(count));
     for (cv::Point& point : polygon) {
       double x = 0, y = 0;
       contours >> x >> y;
+      // Within a few images of the frame, so the fixed-point coordinates below fit an int.
+      if (!(std::abs(x) < 1e6 && std::abs(y) < 1e6)) contours.setstate(std::ios::failbit);
       // Fixed point with kShift fraction bits; pixel centres are integers in both conventions.
       point = cv::Point(static_cast<int>(std::lround(x * (1 << kShift))),
                         static_cast<int>(std::lround(y * (1 << kShift))));

@@ -4,12 +4,16 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <sstream>
+#include <optional>
+#include <string_view>
+#include <type_traits>
 
 #include "aggregator/pairwise/epipolar_overlay.h"
 #include "shared/io/calibration_yaml.h"
@@ -67,7 +71,49 @@ void WriteMatchCsv(const std::filesystem::path& file, const std::vector<TimedMat
   }
 }
 
-// Reads a correspondences file that `pairs_yaml` refers to; throws InputError if missing.
+// `field` without the spaces, tabs and carriage returns around it.
+std::string_view Trimmed(std::string_view field) {
+  const size_t first = field.find_first_not_of(" \t\r");
+  if (first == std::string_view::npos) return {};
+  return field.substr(first, field.find_last_not_of(" \t\r") - first + 1);
+}
+
+// Parses the whole of `field` into `value`; false if it is not one number of that type (for a
+// double also if it is not finite).
+template <class T>
+bool ParseField(std::string_view field, T* value) {
+  field = Trimmed(field);
+  const auto [end, error] = std::from_chars(field.data(), field.data() + field.size(), *value);
+  if (error != std::errc() || end != field.data() + field.size() || field.empty()) return false;
+  if constexpr (std::is_floating_point_v<T>) return std::isfinite(*value);
+  return true;
+}
+
+// One row frame_i,frame_j,x_i,y_i,x_j,y_j; nullopt if it is not six such numbers.
+std::optional<TimedMatch> ParseMatchRow(std::string_view line) {
+  std::vector<std::string_view> fields;
+  for (size_t start = 0;;) {
+    const size_t comma = line.find(',', start);
+    fields.push_back(line.substr(start, comma == std::string_view::npos ? comma : comma - start));
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  TimedMatch m;
+  double x[4];
+  if (fields.size() != 6 || !ParseField(fields[0], &m.frame_i) ||
+      !ParseField(fields[1], &m.frame_j))
+    return std::nullopt;
+  for (int k = 0; k < 4; ++k) {
+    if (!ParseField(fields[static_cast<size_t>(2 + k)], &x[k])) return std::nullopt;
+  }
+  m.x_i = {x[0], x[1]};
+  m.x_j_a = m.x_j_b = {x[2], x[3]};
+  return m;
+}
+
+// Reads a correspondences file that `pairs_yaml` refers to. Throws InputError if it is
+// missing or a row is not frame_i,frame_j,x_i,y_i,x_j,y_j (frames non-negative integers,
+// coordinates finite); blank rows are skipped.
 std::vector<TimedMatch> ReadMatchesCsv(const std::filesystem::path& file,
                                        const std::filesystem::path& pairs_yaml) {
   std::ifstream in(file);
@@ -75,17 +121,15 @@ std::vector<TimedMatch> ReadMatchesCsv(const std::filesystem::path& file,
   std::vector<TimedMatch> matches;
   std::string line;
   std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::istringstream row(line);
-    TimedMatch m;
-    char comma = 0;
-    double xi, yi, xj, yj;
-    if (row >> m.frame_i >> comma >> m.frame_j >> comma >> xi >> comma >> yi >> comma >> xj >>
-        comma >> yj) {
-      m.x_i = {xi, yi};
-      m.x_j_a = m.x_j_b = {xj, yj};
-      matches.push_back(m);
+  for (size_t row = 2; std::getline(in, line); ++row) {
+    if (Trimmed(line).empty()) continue;
+    const std::optional<TimedMatch> match = ParseMatchRow(line);
+    if (!match) {
+      throw InputError(
+          fmt::format("{}: row {} is not frame_i,frame_j,x_i,y_i,x_j,y_j with finite coordinates",
+                      file.string(), row));
     }
+    matches.push_back(*match);
   }
   return matches;
 }

@@ -41,7 +41,8 @@ std::string YamlNestingProblem(std::string_view text) {
   return {};
 }
 
-std::string YamlParserProblem(const std::string& text, std::chrono::milliseconds limit) {
+std::string YamlParserProblem(const std::string& text, std::chrono::milliseconds limit,
+                              std::string_view format) {
   const pid_t child = ::fork();
   if (child < 0) return {};  // no process to spare (memory, limits): the parser tries anyway
   if (child == 0) {
@@ -62,13 +63,13 @@ std::string YamlParserProblem(const std::string& text, std::chrono::milliseconds
       ::kill(child, SIGKILL);
       while (::waitpid(child, nullptr, 0) < 0 && errno == EINTR) {
       }
-      return fmt::format("OpenCV's YAML parser does not finish on it (stopped after {} s)",
+      return fmt::format("OpenCV's {} parser does not finish on it (stopped after {} s)", format,
                          std::chrono::duration<double>(limit).count());
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   if (WIFSIGNALED(status))
-    return fmt::format("OpenCV's YAML parser crashes on it (signal {})", WTERMSIG(status));
+    return fmt::format("OpenCV's {} parser crashes on it (signal {})", format, WTERMSIG(status));
   return {};
 }
 

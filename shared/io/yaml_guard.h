@@ -32,7 +32,9 @@ inline constexpr std::chrono::milliseconds kYamlParseLimit{5000};
 // else why not: it crashed, or it was still running at the limit. It is tried in a child
 // process, killed at the limit, so a parser that crashes or loops forever costs this process
 // nothing. Empty too if no child can be started (the caller's parse is then unguarded).
-std::string YamlParserProblem(const std::string& text, std::chrono::milliseconds limit);
+// FileStorage reads XML too, with the same guard; `format` names the parser in the reason.
+std::string YamlParserProblem(const std::string& text, std::chrono::milliseconds limit,
+                              std::string_view format = "YAML");
 
 // read(), with what OpenCV's parser and nodes throw (their own exceptions, and the standard
 // library's for lengths or allocations a malformed file asks for) turned into InputError

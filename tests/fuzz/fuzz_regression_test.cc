@@ -9,6 +9,7 @@
 #include <random>
 
 #include "tests/fuzz/fuzz_inputs.h"
+#include "tests/support/byte_mutation.h"
 
 namespace silnet::fuzz {
 namespace {
@@ -24,27 +25,8 @@ void RunSeedsAndMutations(Target target, const std::vector<std::vector<uint8_t>>
   std::mt19937 random(20261121);
   for (const auto& seed : seeds) {
     target(seed);
-    for (int m = 0; m < mutations; ++m) {
-      std::vector<uint8_t> bytes = seed;
-      const int edits = 1 + static_cast<int>(random() % 4);
-      for (int e = 0; e < edits && !bytes.empty(); ++e) {
-        const size_t at = random() % bytes.size();
-        switch (random() % 4) {
-          case 0:
-            bytes[at] ^= static_cast<uint8_t>(1u << (random() % 8));
-            break;
-          case 1:
-            bytes[at] = static_cast<uint8_t>(random());
-            break;
-          case 2:
-            bytes.resize(at);
-            break;
-          default:
-            bytes.insert(bytes.begin() + static_cast<long>(at), static_cast<uint8_t>(random()));
-        }
-      }
-      target(bytes);
-    }
+    for (int m = 0; m < mutations; ++m)
+      target(testing::MutateBytes(seed, random));
   }
 }
 
