@@ -10,9 +10,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <optional>
 #include <sstream>
 
 #include "aggregator/calibration/projective_geometry.h"
+#include "shared/geometry/nearest_rotation.h"
 #include "shared/io/yaml_guard.h"
 #include "shared/util/check.h"
 
@@ -293,6 +295,15 @@ RealCapture LoadTsinghuaWd2(const std::filesystem::path& folder, bool use_distor
     }
     if (!in)
       throw InputError(fmt::format("{}: camera block {} is malformed", calib.string(), index));
+    // The file prints rotations to six decimals: the nearest rotation, and a camera matrix
+    // with a positive focal length once scaled to a last element of 1.
+    const std::optional<Eigen::Matrix3d> rotation = NearestRotation(r, 1e-4);
+    const Eigen::Matrix3d scaled = k / k(2, 2);
+    if (!rotation || !scaled.allFinite() || !(scaled(0, 0) > 0.0 && scaled(1, 1) > 0.0) ||
+        !std::isfinite(d1) || !std::isfinite(d2)) {
+      throw InputError(
+          fmt::format("{}: camera block {} has no valid K or R", calib.string(), index));
+    }
     const std::filesystem::path path =
         folder / "silhouettes" / fmt::format("WD2_{}_00020_segmented.png", index);
     const cv::Mat image = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
@@ -300,8 +311,8 @@ RealCapture LoadTsinghuaWd2(const std::filesystem::path& folder, bool use_distor
     cv::Mat mask;
     cv::threshold(image, mask, 125, 255, cv::THRESH_BINARY);
     CameraModel camera = SingleInstantCamera(fmt::format("wd2_{:02d}", index), mask);
-    camera.K = k / k(2, 2);
-    camera.R = r;
+    camera.K = scaled;
+    camera.R = *rotation;
     camera.t = t;
     if (use_distortion) {
       camera.dist[0] = d1;

@@ -8,10 +8,12 @@
 #include <numeric>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <set>
 
 #include "aggregator/stereo/stills_folder.h"
 #include "node/segmentation/mask_cleanup.h"
+#include "shared/geometry/nearest_rotation.h"
 #include "shared/util/check.h"
 
 namespace silnet::aggregator {
@@ -211,9 +213,8 @@ StereoViews LoadMiddlebury(const fs::path& folder,
     if (!in) throw InputError(fmt::format("{}: view {} is malformed", par.string(), v + 1));
     // The dino's rotations are orthonormal to about 1.5e-6 only: replaced by the nearest
     // rotation (a change of under 0.01 px in the image).
-    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    const Eigen::Matrix3d rotation = svd.matrixU() * svd.matrixV().transpose();
-    if (!(k(0, 0) > 0 && k(1, 1) > 0) || rotation.determinant() < 0 || !(r - rotation).isZero(1e-4))
+    const std::optional<Eigen::Matrix3d> rotation = NearestRotation(r, 1e-4);
+    if (!(k(0, 0) > 0 && k(1, 1) > 0) || !rotation)
       throw InputError(fmt::format("{}: {} has no valid K or R", par.string(), name));
     StereoView view;
     const fs::path image_path = folder / name;
@@ -224,7 +225,7 @@ StereoViews LoadMiddlebury(const fs::path& folder,
     view.camera.width = view.image.cols;
     view.camera.height = view.image.rows;
     view.camera.K = k;
-    view.camera.R = rotation;
+    view.camera.R = *rotation;
     view.camera.t = t;
     view.mask = ThresholdDarkBackground(view.image, options);
     view.silhouette_source = MaskOrigin::kThreshold;

@@ -2,8 +2,8 @@
 // valid files (bit flips, random bytes, truncations, insertions): each mutated file must be
 // read into something the jobs can use or refused with an InputError, never crash or escape
 // with another exception. The readers: pairs.yaml and its matches CSV (`--pairs DIR`), a
-// Utrecht camera's config.xml, a Middlebury `_par.txt`, a PBM mask and EPVH's camera and
-// contour files.
+// Utrecht camera's config.xml, a Middlebury `_par.txt`, a PBM mask, the INRIA dancer's and
+// Tsinghua WD2's camera files and EPVH's camera and contour files.
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -223,6 +223,53 @@ TEST(InputFileMutations, PbmMask) {
   read();
   EXPECT_EQ(cv::countNonZero(ReadPbm(dir / "mask.pbm", 1)), 3 * 6);  // 4 + 2 bits a row
   EXPECT_GT(ReadMutations(dir / "mask.pbm", 1500, read).refused, 0);
+}
+
+TEST(InputFileMutations, InriaDancerParameters) {
+  testing::TempDir dir;
+  std::string pbm = "P4\n16 4\n";
+  for (int row = 0; row < 4; ++row)
+    pbm += std::string{'\x0f', '\xf0'};
+  std::ofstream(dir / "a.pbm", std::ios::binary) << pbm;
+  std::ofstream(dir / "b.pbm", std::ios::binary) << pbm;
+  std::ofstream(dir / "dancer_par.txt") << "2\na.pbm 20 0 8 1\n0 20 2 2\n0 0 1 5\n"
+                                        << "b.pbm 19 1 8 -1\n-1 20 2 2\n0.02 0 1 6\n";
+  const auto read = [&] {
+    const RealCapture capture = LoadInriaDancer(dir.path());
+    ASSERT_EQ(capture.cameras.size(), capture.masks.size());
+    for (const CameraModel& camera : capture.cameras)
+      ExpectUsableCamera(camera);
+  };
+  read();
+  EXPECT_GT(ReadMutations(dir / "dancer_par.txt", 600, read).refused, 0);
+}
+
+TEST(InputFileMutations, TsinghuaWd2Parameters) {
+  testing::TempDir dir;
+  fs::create_directories(dir / "silhouettes");
+  std::string calib;
+  for (int index = 0; index < 2; ++index) {
+    cv::Mat silhouette(24, 32, CV_8UC1, cv::Scalar(0));
+    cv::rectangle(silhouette, cv::Rect(10, 6, 12, 12), cv::Scalar(255), cv::FILLED);
+    ASSERT_TRUE(cv::imwrite(
+        (dir / "silhouettes" / ("WD2_" + std::to_string(index) + "_00020_segmented.png")).string(),
+        silhouette));
+    calib += std::to_string(index) +
+             "\n40 -0.1 16\n0 40 12\n0 0 1\n-0.04 0.06\n"
+             "0.995004 0 0.099833 0.1\n0 1 0 0\n-0.099833 0 0.995004 " +
+             std::to_string(3 + index) + "\n";
+  }
+  std::ofstream(dir / "calibParamsI.txt") << calib;
+  const auto read = [&] {
+    const RealCapture capture = LoadTsinghuaWd2(dir.path(), true);
+    ASSERT_EQ(capture.cameras.size(), capture.masks.size());
+    for (const CameraModel& camera : capture.cameras) {
+      ExpectUsableCamera(camera);
+      EXPECT_TRUE(camera.dist.allFinite());
+    }
+  };
+  read();
+  EXPECT_GT(ReadMutations(dir / "calibParamsI.txt", 600, read).refused, 0);
 }
 
 TEST(InputFileMutations, EpvhCamerasAndContours) {
