@@ -21,6 +21,7 @@
 #include <opencv2/videoio.hpp>
 #include <random>
 #include <string>
+#include <typeinfo>
 #include <vector>
 
 #include "aggregator/hulls/real_datasets.h"
