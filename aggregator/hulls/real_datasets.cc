@@ -11,7 +11,6 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 #include <optional>
-#include <sstream>
 
 #include "aggregator/calibration/projective_geometry.h"
 #include "shared/geometry/nearest_rotation.h"
@@ -25,14 +24,6 @@ std::ifstream OpenOrThrow(const std::filesystem::path& path, std::ios::openmode 
   std::ifstream in(path, mode);
   if (!in) throw InputError(fmt::format("cannot open {}", path.string()));
   return in;
-}
-
-// The whole of `path`. Throws InputError naming it if it cannot be opened.
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in = OpenOrThrow(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return std::move(text).str();
 }
 
 // Next whitespace-separated PBM header token, skipping '#' comments to the end of the line.
@@ -112,13 +103,7 @@ std::vector<CameraModel> LoadUtrechtCameras(const std::filesystem::path& folder,
   for (const std::filesystem::path& dir : dirs) {
     const std::filesystem::path path = dir / "config.xml";
     // OpenCV's XML parser crashes on some malformed files: tried in a child process first.
-    const std::string text = ReadText(path);
-    const std::string problem = YamlParserProblem(text, kYamlParseLimit, "XML");
-    if (!problem.empty()) throw InputError(fmt::format("{}: {}", path.string(), problem));
-    const cv::FileStorage fs = ReadYamlGuarded(path, "malformed", [&] {
-      return cv::FileStorage(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
-    });
-    if (!fs.isOpened()) throw InputError(fmt::format("cannot open {}", path.string()));
+    const cv::FileStorage fs = OpenFileStorageGuarded(path, "XML");
     // OpenCV throws its own exception for a matrix node it cannot read (a bad type letter,
     // text among the numbers): a malformed file like any other.
     cv::Mat k, dist, rvec, tvec;

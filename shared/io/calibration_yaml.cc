@@ -4,9 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <opencv2/core/eigen.hpp>
-#include <sstream>
 
 #include "shared/io/replace_yaml.h"
 #include "shared/io/yaml_guard.h"
@@ -148,20 +146,7 @@ std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::str
 
 cv::FileStorage OpenYamlForReading(const std::filesystem::path& path,
                                    std::chrono::milliseconds parse_limit) {
-  if (!std::filesystem::exists(path)) throw InputError(path.string() + ": no such file");
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream buffer;
-  buffer << file.rdbuf();
-  if (!file) throw InputError(path.string() + ": cannot read");
-  const std::string text = std::move(buffer).str();
-  std::string problem = YamlNestingProblem(text);
-  if (problem.empty()) problem = YamlParserProblem(text, parse_limit);
-  if (!problem.empty()) throw InputError(path.string() + ": not a silnet file: " + problem);
-  cv::FileStorage storage = ReadYamlGuarded(path, "not valid YAML", [&] {
-    return cv::FileStorage(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
-  });
-  if (!storage.isOpened()) throw InputError(path.string() + ": cannot open as YAML");
-  return storage;
+  return OpenFileStorageGuarded(path, "YAML", "not a silnet file: ", parse_limit);
 }
 
 void SaveCalibration(const std::filesystem::path& path, const std::vector<CameraModel>& cameras) {

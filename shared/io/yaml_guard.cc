@@ -6,7 +6,9 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <fstream>
 #include <opencv2/core/persistence.hpp>
+#include <sstream>
 #include <thread>
 
 namespace silnet {
@@ -71,6 +73,27 @@ std::string YamlParserProblem(const std::string& text, std::chrono::milliseconds
   if (WIFSIGNALED(status))
     return fmt::format("OpenCV's {} parser crashes on it (signal {})", format, WTERMSIG(status));
   return {};
+}
+
+cv::FileStorage OpenFileStorageGuarded(const std::filesystem::path& path, std::string_view format,
+                                       std::string_view refused,
+                                       std::chrono::milliseconds parse_limit) {
+  if (!std::filesystem::exists(path)) throw InputError(path.string() + ": no such file");
+  std::ifstream file(path, std::ios::binary);
+  std::ostringstream buffer;
+  buffer << file.rdbuf();
+  if (!file) throw InputError(path.string() + ": cannot read");
+  const std::string text = std::move(buffer).str();
+  std::string problem = YamlNestingProblem(text);
+  if (problem.empty()) problem = YamlParserProblem(text, parse_limit, format);
+  if (!problem.empty()) throw InputError(fmt::format("{}: {}{}", path.string(), refused, problem));
+  const std::string invalid = fmt::format("not valid {}", format);
+  cv::FileStorage storage = ReadYamlGuarded(path, invalid.c_str(), [&] {
+    return cv::FileStorage(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  });
+  if (!storage.isOpened())
+    throw InputError(fmt::format("{}: cannot open as {}", path.string(), format));
+  return storage;
 }
 
 }  // namespace silnet

@@ -52,4 +52,13 @@ auto ReadYamlGuarded(const std::filesystem::path& path, const char* what, Read r
   }
 }
 
+// Opens `path` as an OpenCV FileStorage for reading (YAML, or XML: FileStorage tells them by
+// their first line) behind the guards above. Throws InputError naming the path for a missing
+// or unreadable file, "`path`: `refused``reason`" for one nested deeper than the parser
+// survives or on which it crashes or is still running after `parse_limit`, and for one the
+// parser refuses. `format` names the parser in the reasons.
+cv::FileStorage OpenFileStorageGuarded(const std::filesystem::path& path, std::string_view format,
+                                       std::string_view refused = "",
+                                       std::chrono::milliseconds parse_limit = kYamlParseLimit);
+
 }  // namespace silnet
