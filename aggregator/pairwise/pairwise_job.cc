@@ -4,7 +4,6 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -20,6 +19,7 @@
 #include "shared/io/dataset_layout.h"
 #include "shared/util/check.h"
 #include "shared/util/parallel_for.h"
+#include "shared/util/parse_number.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -82,9 +82,7 @@ std::string_view Trimmed(std::string_view field) {
 // double also if it is not finite).
 template <class T>
 bool ParseField(std::string_view field, T* value) {
-  field = Trimmed(field);
-  const auto [end, error] = std::from_chars(field.data(), field.data() + field.size(), *value);
-  if (error != std::errc() || end != field.data() + field.size() || field.empty()) return false;
+  if (!ParseWholeNumber(Trimmed(field), value)) return false;
   if constexpr (std::is_floating_point_v<T>) return std::isfinite(*value);
   return true;
 }

@@ -2,25 +2,14 @@
 
 #include <fmt/format.h>
 
-#include <charconv>
 #include <functional>
+#include <string_view>
 
 #include "shared/util/check.h"
+#include "shared/util/parse_number.h"
 
 namespace silnet::node {
 namespace {
-
-bool ParseNumber(const std::string& text, double* out) {
-  const char* end = text.data() + text.size();
-  auto [ptr, ec] = std::from_chars(text.data(), end, *out);
-  return ec == std::errc() && ptr == end;
-}
-
-bool ParseInt(const std::string& text, int* out) {
-  const char* end = text.data() + text.size();
-  auto [ptr, ec] = std::from_chars(text.data(), end, *out);
-  return ec == std::errc() && ptr == end;
-}
 
 bool ParseBool(const std::string& text, bool* out) {
   if (text == "true" || text == "1" || text == "on") {
@@ -83,8 +72,8 @@ std::string SegmentationOptions::Validate() const {
 
 bool SegmentationOptions::Set(const std::string& name, const std::string& value,
                               std::string* error) {
-  auto number = [&](double* field) { return ParseNumber(value, field); };
-  auto integer = [&](int* field) { return ParseInt(value, field); };
+  auto number = [&](double* field) { return ParseWholeNumber(value, field); };
+  auto integer = [&](int* field) { return ParseWholeNumber(value, field); };
   auto flag = [&](bool* field) { return ParseBool(value, field); };
   const std::map<std::string, std::function<bool()>> setters = {
       {"method",

@@ -1,8 +1,10 @@
 #include "shared/io/session_log.h"
 
 #include <algorithm>
-#include <charconv>
 #include <sstream>
+#include <string_view>
+
+#include "shared/util/parse_number.h"
 
 namespace silnet {
 namespace {
@@ -32,12 +34,6 @@ std::string Unescape(const std::string& text) {
     }
   }
   return out;
-}
-
-template <class T>
-bool ParseNumber(const std::string& text, T* out) {
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), *out);
-  return ec == std::errc() && end == text.data() + text.size();
 }
 
 }  // namespace
@@ -92,7 +88,7 @@ bool ParseCameraInfo(std::span<const uint8_t> bytes, CameraInfoRecord* info, std
     if (key == "camera_id") {
       r.camera_id = Unescape(value);
     } else if (key == "session") {
-      ok = ParseNumber(value, &r.session);
+      ok = ParseWholeNumber(value, &r.session);
     } else if (key == "host") {
       r.host = Unescape(value);
     } else if (key == "node_version") {
@@ -100,11 +96,11 @@ bool ParseCameraInfo(std::span<const uint8_t> bytes, CameraInfoRecord* info, std
     } else if (key == "source_kind") {
       r.source_kind = Unescape(value);
     } else if (key == "width") {
-      ok = ParseNumber(value, &r.width);
+      ok = ParseWholeNumber(value, &r.width);
     } else if (key == "height") {
-      ok = ParseNumber(value, &r.height);
+      ok = ParseWholeNumber(value, &r.height);
     } else if (key == "nominal_fps") {
-      ok = ParseNumber(value, &r.nominal_fps);
+      ok = ParseWholeNumber(value, &r.nominal_fps);
     } else if (key == "segmentation") {
       r.segmentation = Unescape(value);
     } else if (key.rfind("parameter.", 0) == 0) {
