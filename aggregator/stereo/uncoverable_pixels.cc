@@ -129,14 +129,29 @@ GrownSilhouettes GrowSilhouettes(const std::vector<StereoView>& views, double ma
   return out;
 }
 
-bool PixelCoverable(const std::vector<StereoView>& views, const GrownSilhouettes& grown, size_t v,
-                    int x, int y) {
+Eigen::Vector3d RayReach::NearestPoint(const Eigen::Vector3d& x) const {
+  SILNET_CHECK(!stretches.empty());
+  const double along = (x - origin).dot(direction);
+  double best = stretches.front().first, best_gap = std::numeric_limits<double>::infinity();
+  for (const auto& [lo, hi] : stretches) {
+    const double t = std::clamp(along, lo, hi);
+    if (std::abs(t - along) < best_gap) {
+      best_gap = std::abs(t - along);
+      best = t;
+    }
+  }
+  return origin + best * direction;
+}
+
+RayReach CoverableReach(const std::vector<StereoView>& views, const GrownSilhouettes& grown,
+                        size_t v, const Eigen::Vector2d& pixel) {
   SILNET_CHECK(v < views.size() && grown.grown.size() == views.size());
   const CameraModel& camera = views[v].camera;
-  const Eigen::Vector3d origin = camera.Center();
-  const Eigen::Vector3d direction =
-      camera.R.transpose() *
-      camera.PixelRay({static_cast<double>(x), static_cast<double>(y)}).normalized();
+  RayReach out;
+  out.origin = camera.Center();
+  out.direction = camera.R.transpose() * camera.PixelRay(pixel).normalized();
+  const Eigen::Vector3d& origin = out.origin;
+  const Eigen::Vector3d& direction = out.direction;
   // Homogeneous image of the ray, h0 + t h1, in every other view; the ray clipped to where it
   // lies in front of each and inside the image of each view the border does not cut.
   const double infinity = std::numeric_limits<double>::infinity();
@@ -156,8 +171,11 @@ bool PixelCoverable(const std::vector<StereoView>& views, const GrownSilhouettes
     Restrict(h0.y() + 0.5 * h0.z(), h1.y() + 0.5 * h1.z(), t0, t1);
     Restrict((height - 0.5) * h0.z() - h0.y(), (height - 0.5) * h1.z() - h1.y(), t0, t1);
   }
-  if (!std::isfinite(t1)) return t1 > 0;  // no view bounds the ray (or one excludes it)
-  if (!(t0 < t1)) return false;
+  if (!std::isfinite(t1)) {  // no view bounds the ray (or one excludes it)
+    if (t1 > 0) out.stretches.emplace_back(t0, t1);
+    return out;
+  }
+  if (!(t0 < t1)) return out;
   Intervals reach = {{0.0, 1.0}};
   for (size_t j = 0; j < views.size() && !reach.empty(); ++j) {
     if (j == v) continue;
@@ -166,7 +184,16 @@ bool PixelCoverable(const std::vector<StereoView>& views, const GrownSilhouettes
     const RayImage image{a.hnormalized(), b.hnormalized(), a.z(), b.z()};
     reach = Intersect(reach, StretchesInside(image, grown.grown[j], grown.border_cut[j]));
   }
-  return !reach.empty();
+  // The fractions of [t0, t1] as distances along the ray.
+  for (const auto& [lo, hi] : reach)
+    out.stretches.emplace_back(t0 + lo * (t1 - t0), t0 + hi * (t1 - t0));
+  return out;
+}
+
+bool PixelCoverable(const std::vector<StereoView>& views, const GrownSilhouettes& grown, size_t v,
+                    int x, int y) {
+  return !CoverableReach(views, grown, v, {static_cast<double>(x), static_cast<double>(y)})
+              .stretches.empty();
 }
 
 size_t CountUncoverable(const std::vector<StereoView>& views, const GrownSilhouettes& grown,

@@ -15,8 +15,10 @@
 // the ray's stretches inside it intersected view by view: a stretch is widened by half a
 // sample, so a thin reach is never missed (a pixel at the limit counts as coverable).
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <opencv2/core/mat.hpp>
+#include <utility>
 #include <vector>
 
 #include "aggregator/stereo/stereo_views.h"
@@ -35,6 +37,23 @@ struct GrownSilhouettes {
 // Grows every view's mask by `margin_px` (>= 0; the outline runs half a pixel beyond the
 // outermost silhouette pixel centres, as InnerSilhouettePixels has it).
 GrownSilhouettes GrowSilhouettes(const std::vector<StereoView>& views, double margin_px);
+
+// The part of a pixel's viewing ray inside every other view's grown silhouette: the points
+// origin + t * direction (unit) for t in one of the stretches.
+struct RayReach {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();
+  std::vector<std::pair<double, double>> stretches;  // sorted, disjoint; the last may be endless
+
+  // The point of the stretches nearest `x`.
+  Eigen::Vector3d NearestPoint(const Eigen::Vector3d& x) const;
+};
+
+// The reach of the viewing ray through `pixel` of view `v` (pinhole cameras); its stretches
+// are empty when the pixel is not coverable. With no other view whose image bounds the ray,
+// the whole ray in front of every other camera.
+RayReach CoverableReach(const std::vector<StereoView>& views, const GrownSilhouettes& grown,
+                        size_t v, const Eigen::Vector2d& pixel);
 
 // True if the viewing ray of pixel (x, y) of view `v` (pinhole cameras) has a point inside
 // every other view's grown silhouette. With no other view whose image bounds the ray, true.
