@@ -58,6 +58,14 @@ std::string JobSummary(const StereoJobConfig& config, const StereoJobResult& res
                   fmt::format("{} iterations, {} vertices to {}, mean move {:.2f} mm, {:.1f} s",
                               config.refinement.iterations, r.vertices_in, r.vertices,
                               r.mean_shift * 1e3, r.seconds)});
+    if (r.reach.coverable_before > 0) {
+      table.AddRow(
+          {"missed silhouette pixels reached",
+           fmt::format("{} of {} that a consistent model covers, {} vertices moved ({} "
+                       "moves undone), {:.1f} s",
+                       r.reach.missed_before - r.reach.missed_after, r.reach.coverable_before,
+                       r.reach.moved, r.reach.undone, r.reach.seconds)});
+    }
   }
   table.AddRow({"total time", fmt::format("{:.1f} s", result.seconds.total)});
   html += table.ToHtml();

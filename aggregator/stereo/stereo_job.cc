@@ -365,6 +365,13 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
     TriangleMesh refined = RefineSurface(model_surface, views.views, scorer, result.footprint,
                                          refine, &refined_stats, progress);
     result.refinement = refined_stats;
+    if (const PixelReachStats& reach = refined_stats.reach; reach.coverable_before > 0) {
+      spdlog::info(
+          "refinement: {} of the {} missed silhouette pixels a consistent model covers reached "
+          "by moving {} vertices ({} moves undone, {:.1f} s)",
+          reach.missed_before - reach.missed_after, reach.coverable_before, reach.moved,
+          reach.undone, reach.seconds);
+    }
     result.seconds.refinement = SecondsSince(stage);
     if (Cancelled(progress, &result)) return finish();
     result.cut = result.model;

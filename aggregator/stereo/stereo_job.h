@@ -8,12 +8,14 @@
 //   photo-consistency  votes of all view pairs on a lattice inside the hull (6.8.1)
 //   graph cut          the volumetric cut between the hull and an inner offset
 //                      (volumetric_graph_cut.h, 5.4.1), re-solved by silhouette steps (7.4.2)
-//                      until the model covers its silhouettes; the exact silhouette
-//                      constraints of 6.6-6.7 are not built yet. With --method adaptive the
+//                      until the model covers its silhouettes (or cut with the exact
+//                      silhouette constraints of Formulation I, 6.4-6.6, when asked for;
+//                      Formulation II is not built). With --method adaptive the
 //                      photo-consistency and graph cut stages are the adaptive tetrahedral
 //                      stereo of ch. 7 instead (adaptive_stereo.h; no vote lattice)
 //   refinement         the cut's surface deformed by texture and silhouette forces and
-//                      remeshed (surface_refinement.h, 7.4.3), for either method
+//                      remeshed (surface_refinement.h, 7.4.3), for either method, then its
+//                      coverable missed silhouette pixels reached (missed_pixel_reach.h)
 //   evaluation         per view silhouette consistency of model and hull (model_evaluation.h)
 //                      and, when the folder has gt_surface.ply (simulated stills), accuracy
 //                      and completeness of model and hull against it, over the whole surface

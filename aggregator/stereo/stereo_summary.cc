@@ -118,7 +118,13 @@ void WriteRefinement(cv::FileStorage& fs, const SurfaceRefinementOptions& o,
      << "vertices" << AsInt(r.vertices) << "edges_split" << AsInt(r.split_edges)
      << "textured_vertices" << AsInt(r.textured) << "rim_vertices" << AsInt(r.rims)
      << "mean_shift_mm" << r.mean_shift * 1e3 << "vertices_restored" << AsInt(r.restored)
-     << "pixels_still_uncovered" << AsInt(r.still_uncovered) << "seconds" << r.seconds << "}";
+     << "pixels_still_uncovered" << AsInt(r.still_uncovered) << "reach"
+     << "{"
+     << "rounds" << AsInt(r.reach.rounds) << "missed_inner_before" << AsInt(r.reach.missed_before)
+     << "coverable_before" << AsInt(r.reach.coverable_before) << "vertices_moved"
+     << AsInt(r.reach.moved) << "moves_undone" << AsInt(r.reach.undone) << "missed_inner_after"
+     << AsInt(r.reach.missed_after) << "seconds" << r.reach.seconds << "}"
+     << "seconds" << r.seconds << "}";
 }
 
 }  // namespace

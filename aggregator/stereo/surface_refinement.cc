@@ -97,6 +97,11 @@ bool SurfaceRefinementOptions::IsValid(std::string* reason) const {
   }
   if (!(silhouettes.rim_cos >= 0 && silhouettes.rim_cos < 1 && silhouettes.rim_distance_px >= 0))
     return fail("the rim test needs rim_cos in [0, 1) and rim_distance_px >= 0");
+  std::string reach_reason;
+  if (!reach.IsValid(&reach_reason)) {
+    if (reason) *reason = reach_reason;
+    return false;
+  }
   return true;
 }
 
@@ -184,6 +189,11 @@ TriangleMesh RefineSurface(const TriangleMesh& surface, const std::vector<Stereo
         RestoreCoverage(views, covered, anchors, options.restore_rounds, &mesh);
     s.restored = restore.restored;
     s.still_uncovered = restore.still_uncovered;
+  }
+  if (!s.cancelled && options.iterations > 0 && options.reach.rounds > 0) {
+    PixelReachOptions reach = options.reach;
+    reach.threads = options.threads;
+    s.reach = ReachMissedPixels(views, footprint, reach, &mesh);
   }
   s.vertices = mesh.vertices.size();
   s.triangles = mesh.triangles.size();

@@ -5,14 +5,16 @@
 // red-green subdivision (triangle_remeshing.h) wherever an edge is longer than `max_edge_px`
 // in its best view. Each vertex keeps within a box of +-max_shift around where it (or, for a
 // new vertex, the edge it halves) started, so the result stays near the cut; the inner
-// silhouette pixels the cut covered stay covered (coverage_restore.h). Moves and subdivision
-// keep a closed, oriented manifold one.
+// silhouette pixels the cut covered stay covered (coverage_restore.h), and those it missed are
+// reached where a consistent model can cover them (missed_pixel_reach.h). Moves and
+// subdivision keep a closed, oriented manifold one.
 
 #include <cstddef>
 #include <string>
 #include <vector>
 
 #include "aggregator/hulls/triangle_mesh.h"
+#include "aggregator/stereo/missed_pixel_reach.h"
 #include "aggregator/stereo/patch_photo_consistency.h"
 #include "aggregator/stereo/stereo_views.h"
 #include "aggregator/stereo/surface_forces.h"
@@ -38,6 +40,9 @@ struct SurfaceRefinementOptions {
   PatchOptions patch;  // of the texture force's patches (the job builds its scorer from them)
   SilhouetteForceOptions silhouettes;
   int restore_rounds = 6;  // RestoreCoverage of the silhouette pixels the surface covered
+  // Then the coverable inner pixels still missed reached (missed_pixel_reach.h; its threads
+  // are these).
+  PixelReachOptions reach;
   int threads = 0;
 
   // True if the options make sense; otherwise false with a reason.
@@ -53,6 +58,7 @@ struct SurfaceRefinementStats {
   double mean_shift = 0;          // metres: mean distance of the vertices from their start
   size_t restored = 0;            // vertices put back to keep the silhouettes covered
   size_t still_uncovered = 0;     // inner silhouette pixels the input covered and the result not
+  PixelReachStats reach;          // the last step's
   double seconds = 0;
   bool cancelled = false;
 };
