@@ -187,7 +187,6 @@ PixelReachStats ReachMissedPixels(const std::vector<StereoView>& views, double f
   std::vector<PixelSets> sets;
   for (const StereoView& view : views)
     sets.push_back(ViewPixelSets(view.mask, options.margin_px));
-  const GrownSilhouettes grown = GrowSilhouettes(views, options.margin_px);
   std::vector<cv::Mat> rendered = RenderAll(views, *mesh, options.threads);
   const auto count_missed = [&] {
     size_t missed = 0;
@@ -195,7 +194,14 @@ PixelReachStats ReachMissedPixels(const std::vector<StereoView>& views, double f
       missed += static_cast<size_t>(cv::countNonZero(sets[v].inner & ~rendered[v]));
     return missed;
   };
+  const auto finish = [&] {
+    stats.missed_after = count_missed();
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return stats;
+  };
   stats.missed_before = count_missed();
+  if (stats.missed_before == 0) return finish();
+  const GrownSilhouettes grown = GrowSilhouettes(views, options.margin_px);
   // A vertex whose move was undone is not moved again.
   std::vector<uint8_t> frozen(mesh->vertices.size(), 0);
   const std::vector<Eigen::Vector3f> starts = mesh->vertices;
@@ -254,9 +260,7 @@ PixelReachStats ReachMissedPixels(const std::vector<StereoView>& views, double f
     rendered = std::move(after);
     if (kept == 0) break;
   }
-  stats.missed_after = count_missed();
-  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return stats;
+  return finish();
 }
 
 }  // namespace silnet::aggregator
