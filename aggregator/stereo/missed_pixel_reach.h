@@ -21,10 +21,10 @@ namespace silnet::aggregator {
 
 // Settings of the step.
 struct PixelReachOptions {
-  int rounds = 3;                          // 0: the surface is left as it is
+  int rounds = 6;                          // 0: the surface is left as it is
   double search_px = 3.0;                  // a pixel takes a vertex projecting this near it
   double max_move_footprints = 2.0;        // no vertex ends farther than this from where it was
-  double beyond_px = 0.3;                  // past the pixel centre, away from where the vertex was
+  double beyond_px = 0.02;                 // past the pixel centre, away from where the vertex was
   double margin_px = kSilhouetteMarginPx;  // of the inner and outer pixels
   int threads = 0;                         // rendering the views
 
