@@ -158,6 +158,47 @@ cv::Mat NewlyWrong(const PixelSets& sets, const cv::Mat& before, const cv::Mat& 
   return (sets.outer & newly_covered) | (sets.inner & newly_missed);
 }
 
+// Undoes the moves (applied to `mesh`) near the pixels they made wrong in any view against
+// `before` (the views rendered without them), within 2, 4, 6 px, then all that are left, until
+// no view has such a pixel; `undone` gets a flag per move. Returns the views rendered after.
+std::vector<cv::Mat> UndoHarmfulMoves(const std::vector<StereoView>& views,
+                                      const std::vector<PixelSets>& sets,
+                                      const std::vector<Matrix34d>& projections,
+                                      const std::vector<cv::Mat>& before,
+                                      const std::vector<Move>& moves, int threads,
+                                      TriangleMesh* mesh, std::vector<uint8_t>* undone) {
+  undone->assign(moves.size(), 0);
+  std::vector<cv::Mat> after = RenderAll(views, *mesh, threads);
+  for (int check = 0;; ++check) {
+    std::vector<cv::Mat> wrong(views.size());
+    bool any = false;
+    for (size_t v = 0; v < views.size(); ++v) {
+      wrong[v] = NewlyWrong(sets[v], before[v], after[v]);
+      any = any || cv::countNonZero(wrong[v]) > 0;
+    }
+    if (!any) return after;
+    const int radius = 2 + 2 * check;
+    const cv::Mat disc =
+        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
+    for (size_t v = 0; v < views.size(); ++v) {
+      if (cv::countNonZero(wrong[v]) == 0) continue;
+      cv::Mat near;
+      cv::dilate(wrong[v], near, disc);
+      for (size_t k = 0; k < moves.size(); ++k) {
+        if ((*undone)[k] != 0) continue;
+        const Eigen::Vector3d p = projections[v] * moves[k].to.cast<double>().homogeneous();
+        const int x = static_cast<int>(std::lround(p.x() / p.z()));
+        const int y = static_cast<int>(std::lround(p.y() / p.z()));
+        const bool inside = p.z() > 0 && x >= 0 && y >= 0 && x < near.cols && y < near.rows;
+        if (check + 1 < kCheckRounds && !(inside && near.at<uint8_t>(y, x) != 0)) continue;
+        (*undone)[k] = 1;
+        mesh->vertices[static_cast<size_t>(moves[k].vertex)] = moves[k].from;
+      }
+    }
+    after = RenderAll(views, *mesh, threads);
+  }
+}
+
 }  // namespace
 
 bool PixelReachOptions::IsValid(std::string* reason) const {
@@ -220,41 +261,16 @@ PixelReachStats ReachMissedPixels(const std::vector<StereoView>& views, double f
     ++stats.rounds;
     for (const Move& m : moves)
       mesh->vertices[static_cast<size_t>(m.vertex)] = m.to;
-    // Undo the moves near what they made wrong, wider each time, all of them at last.
-    std::vector<uint8_t> undone(moves.size(), 0);
-    std::vector<cv::Mat> after = RenderAll(views, *mesh, options.threads);
-    for (int check = 0;; ++check) {
-      std::vector<cv::Mat> wrong(views.size());
-      bool any = false;
-      for (size_t v = 0; v < views.size(); ++v) {
-        wrong[v] = NewlyWrong(sets[v], rendered[v], after[v]);
-        any = any || cv::countNonZero(wrong[v]) > 0;
-      }
-      if (!any) break;
-      const int radius = 2 + 2 * check;
-      const cv::Mat disc =
-          cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
-      for (size_t v = 0; v < views.size(); ++v) {
-        if (cv::countNonZero(wrong[v]) == 0) continue;
-        cv::Mat near;
-        cv::dilate(wrong[v], near, disc);
-        for (size_t k = 0; k < moves.size(); ++k) {
-          if (undone[k] != 0) continue;
-          const Eigen::Vector3d p = grown.projections[v] * moves[k].to.cast<double>().homogeneous();
-          const int x = static_cast<int>(std::lround(p.x() / p.z()));
-          const int y = static_cast<int>(std::lround(p.y() / p.z()));
-          const bool inside = p.z() > 0 && x >= 0 && y >= 0 && x < near.cols && y < near.rows;
-          if (check + 1 < kCheckRounds && !(inside && near.at<uint8_t>(y, x) != 0)) continue;
-          undone[k] = 1;
-          mesh->vertices[static_cast<size_t>(moves[k].vertex)] = moves[k].from;
-          frozen[static_cast<size_t>(moves[k].vertex)] = 1;
-        }
-      }
-      after = RenderAll(views, *mesh, options.threads);
-    }
+    std::vector<uint8_t> undone;
+    std::vector<cv::Mat> after = UndoHarmfulMoves(views, sets, grown.projections, rendered, moves,
+                                                  options.threads, mesh, &undone);
     size_t kept = 0;
-    for (const uint8_t u : undone)
-      kept += u == 0 ? 1 : 0;
+    for (size_t k = 0; k < moves.size(); ++k) {
+      if (undone[k] != 0)
+        frozen[static_cast<size_t>(moves[k].vertex)] = 1;
+      else
+        ++kept;
+    }
     stats.moved += kept;
     stats.undone += moves.size() - kept;
     rendered = std::move(after);
