@@ -27,15 +27,6 @@ struct PixelSets {
   cv::Mat inner, outer;
 };
 
-PixelSets ViewPixelSets(const cv::Mat& mask, double margin_px) {
-  PixelSets sets;
-  sets.inner = InnerSilhouettePixels(mask, margin_px);
-  cv::Mat depth_out;
-  cv::distanceTransform(mask == 0, depth_out, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
-  sets.outer = depth_out >= static_cast<float>(margin_px + 0.5);
-  return sets;
-}
-
 // Every view rendered from `mesh`.
 std::vector<cv::Mat> RenderAll(const std::vector<StereoView>& views, const TriangleMesh& mesh,
                                int threads) {
@@ -225,9 +216,9 @@ PixelReachStats ReachMissedPixels(const std::vector<StereoView>& views, double f
   SILNET_CHECK_MSG(options.IsValid(&reason), reason);
   const auto start = std::chrono::steady_clock::now();
   PixelReachStats stats;
-  std::vector<PixelSets> sets;
-  for (const StereoView& view : views)
-    sets.push_back(ViewPixelSets(view.mask, options.margin_px));
+  std::vector<PixelSets> sets(views.size());
+  for (size_t v = 0; v < views.size(); ++v)
+    sets[v].inner = InnerSilhouettePixels(views[v].mask, options.margin_px);
   std::vector<cv::Mat> rendered = RenderAll(views, *mesh, options.threads);
   const auto count_missed = [&] {
     size_t missed = 0;
@@ -243,6 +234,9 @@ PixelReachStats ReachMissedPixels(const std::vector<StereoView>& views, double f
   stats.missed_before = count_missed();
   if (stats.missed_before == 0) return finish();
   const GrownSilhouettes grown = GrowSilhouettes(views, options.margin_px);
+  // The outer pixels are those the margin's growth does not reach.
+  for (size_t v = 0; v < views.size(); ++v)
+    sets[v].outer = ~grown.grown[v];
   // A vertex whose move was undone is not moved again.
   std::vector<uint8_t> frozen(mesh->vertices.size(), 0);
   const std::vector<Eigen::Vector3f> starts = mesh->vertices;
