@@ -1,6 +1,7 @@
 #include "aggregator/stereo/coverage_restore.h"
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -18,6 +19,15 @@ std::vector<cv::Mat> CoveredInnerPixels(const TriangleMesh& surface,
     covered.push_back(InnerSilhouettePixels(view.mask) &
                       RenderMeshSilhouette(surface, view.camera));
   return covered;
+}
+
+bool ProjectsOntoMarkedPixel(const cv::Mat& mask, const Matrix34d& projection,
+                             const Eigen::Vector3f& point) {
+  const Eigen::Vector3d p = projection * point.cast<double>().homogeneous();
+  if (p.z() <= 0) return false;
+  const int x = static_cast<int>(std::lround(p.x() / p.z()));
+  const int y = static_cast<int>(std::lround(p.y() / p.z()));
+  return x >= 0 && y >= 0 && x < mask.cols && y < mask.rows && mask.at<uint8_t>(y, x) != 0;
 }
 
 CoverageRestoreStats RestoreCoverage(const std::vector<StereoView>& views,
@@ -46,15 +56,10 @@ CoverageRestoreStats RestoreCoverage(const std::vector<StereoView>& views,
     ++stats.rounds;
     for (size_t v = 0; v < views.size(); ++v) {
       if (near[v].empty()) continue;
-      const Eigen::Matrix<double, 3, 4> projection = views[v].camera.ProjectionMatrix();
+      const Matrix34d projection = views[v].camera.ProjectionMatrix();
       for (size_t i = 0; i < mesh->vertices.size(); ++i) {
         if (mesh->vertices[i] == starts[i]) continue;
-        const Eigen::Vector3d p = projection * mesh->vertices[i].cast<double>().homogeneous();
-        if (p.z() <= 0) continue;
-        const int x = static_cast<int>(std::lround(p.x() / p.z()));
-        const int y = static_cast<int>(std::lround(p.y() / p.z()));
-        if (x < 0 || y < 0 || x >= near[v].cols || y >= near[v].rows) continue;
-        if (near[v].at<uint8_t>(y, x) == 0) continue;
+        if (!ProjectsOntoMarkedPixel(near[v], projection, mesh->vertices[i])) continue;
         mesh->vertices[i] = starts[i];
         ++stats.restored;
       }

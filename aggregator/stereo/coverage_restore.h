@@ -12,6 +12,7 @@
 
 #include "aggregator/hulls/triangle_mesh.h"
 #include "aggregator/stereo/stereo_views.h"
+#include "shared/geometry/camera_model.h"
 
 namespace silnet::aggregator {
 
@@ -19,6 +20,11 @@ namespace silnet::aggregator {
 // 255 there.
 std::vector<cv::Mat> CoveredInnerPixels(const TriangleMesh& surface,
                                         const std::vector<StereoView>& views);
+
+// True if `point` lies in front of the camera of `projection` and projects onto a non-zero
+// pixel of `mask` (CV_8UC1; the pixel whose centre is nearest).
+bool ProjectsOntoMarkedPixel(const cv::Mat& mask, const Matrix34d& projection,
+                             const Eigen::Vector3f& point);
 
 // What the restoration did.
 struct CoverageRestoreStats {

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "aggregator/hulls/hull_reprojection.h"
+#include "aggregator/stereo/coverage_restore.h"
 #include "aggregator/stereo/uncoverable_pixels.h"
 #include "shared/util/check.h"
 #include "shared/util/parallel_for.h"
@@ -177,11 +178,8 @@ std::vector<cv::Mat> UndoHarmfulMoves(const std::vector<StereoView>& views,
       cv::dilate(wrong[v], near, disc);
       for (size_t k = 0; k < moves.size(); ++k) {
         if ((*undone)[k] != 0) continue;
-        const Eigen::Vector3d p = projections[v] * moves[k].to.cast<double>().homogeneous();
-        const int x = static_cast<int>(std::lround(p.x() / p.z()));
-        const int y = static_cast<int>(std::lround(p.y() / p.z()));
-        const bool inside = p.z() > 0 && x >= 0 && y >= 0 && x < near.cols && y < near.rows;
-        if (check + 1 < kCheckRounds && !(inside && near.at<uint8_t>(y, x) != 0)) continue;
+        if (check + 1 < kCheckRounds && !ProjectsOntoMarkedPixel(near, projections[v], moves[k].to))
+          continue;
         (*undone)[k] = 1;
         mesh->vertices[static_cast<size_t>(moves[k].vertex)] = moves[k].from;
       }
