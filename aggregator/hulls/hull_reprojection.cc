@@ -11,33 +11,11 @@
 namespace silnet::aggregator {
 namespace {
 
-// Twice the signed area of (a, b, p); >= 0 when p is left of a -> b (image axes).
-double EdgeFunction(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
-  return (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x());
-}
-
 // Sets every pixel whose centre lies in the closed triangle (either winding).
 void FillTriangle(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
                   cv::Mat* image) {
-  const double area = EdgeFunction(a, b, c);
-  if (area == 0.0) return;
-  const double sign = area > 0 ? 1.0 : -1.0;
-  const int x0 = std::max(0, static_cast<int>(std::ceil(std::min({a.x(), b.x(), c.x()}))));
-  const int x1 =
-      std::min(image->cols - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}))));
-  const int y0 = std::max(0, static_cast<int>(std::ceil(std::min({a.y(), b.y(), c.y()}))));
-  const int y1 =
-      std::min(image->rows - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}))));
-  for (int y = y0; y <= y1; ++y) {
-    uint8_t* row = image->ptr<uint8_t>(y);
-    for (int x = x0; x <= x1; ++x) {
-      const Eigen::Vector2d p(x, y);
-      if (sign * EdgeFunction(a, b, p) >= 0 && sign * EdgeFunction(b, c, p) >= 0 &&
-          sign * EdgeFunction(c, a, p) >= 0) {
-        row[x] = 255;
-      }
-    }
-  }
+  ForEachPixelInTriangle(a, b, c, image->cols, image->rows,
+                         [image](int x, int y) { image->at<uint8_t>(y, x) = 255; });
 }
 
 // The silhouette pixels whose centre lies more than kFarFromOutlinePx from the outline, which

@@ -5,6 +5,9 @@
 // of) a projected triangle; triangles are projected through the camera's distortion at
 // their vertices and drawn with straight edges.
 
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <opencv2/core/mat.hpp>
 #include <string>
 #include <vector>
@@ -31,6 +34,37 @@ struct ViewReprojection {
 
 // Distance from the silhouette outline beyond which a missed pixel counts as far (pixels).
 inline constexpr double kFarFromOutlinePx = 2.0;
+
+// Twice the signed area of (a, b, p); >= 0 when p is left of a -> b (image axes).
+inline double EdgeFunction(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                           const Eigen::Vector2d& p) {
+  return (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x());
+}
+
+// Calls visit(x, y) for every pixel of a `width` x `height` image whose centre lies in the
+// closed triangle (a, b, c) (either winding; none for a degenerate one): the pixels
+// RenderMeshSilhouette covers with that triangle.
+template <typename Visit>
+void ForEachPixelInTriangle(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                            const Eigen::Vector2d& c, int width, int height, Visit&& visit) {
+  const double area = EdgeFunction(a, b, c);
+  if (area == 0.0) return;
+  const double sign = area > 0 ? 1.0 : -1.0;
+  const int x0 = std::max(0, static_cast<int>(std::ceil(std::min({a.x(), b.x(), c.x()}))));
+  const int x1 = std::min(width - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}))));
+  const int y0 = std::max(0, static_cast<int>(std::ceil(std::min({a.y(), b.y(), c.y()}))));
+  const int y1 =
+      std::min(height - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}))));
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      const Eigen::Vector2d p(x, y);
+      if (sign * EdgeFunction(a, b, p) >= 0 && sign * EdgeFunction(b, c, p) >= 0 &&
+          sign * EdgeFunction(c, a, p) >= 0) {
+        visit(x, y);
+      }
+    }
+  }
+}
 
 // CV_8UC1 image of the camera's size, 255 where the mesh covers the pixel centre.
 // Triangles with a vertex behind the camera are skipped.

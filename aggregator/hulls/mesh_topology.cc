@@ -7,41 +7,60 @@
 #include "shared/util/disjoint_sets.h"
 
 namespace silnet::aggregator {
-std::vector<MeshComponent> MeshComponents(const TriangleMesh& mesh) {
+namespace {
+
+bool IsProperTriangle(const std::array<int32_t, 3>& t, size_t vertices) {
+  const bool in_range = std::all_of(t.begin(), t.end(), [vertices](int32_t v) {
+    return v >= 0 && static_cast<size_t>(v) < vertices;
+  });
+  return in_range && t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
+}
+
+}  // namespace
+
+std::vector<int32_t> TrianglePieces(const TriangleMesh& mesh, size_t* pieces) {
   const size_t n = mesh.vertices.size();
-  std::vector<std::array<int32_t, 3>> triangles;
-  triangles.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles) {
-    const bool in_range = std::all_of(
-        t.begin(), t.end(), [n](int32_t v) { return v >= 0 && static_cast<size_t>(v) < n; });
-    if (in_range && t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) triangles.push_back(t);
-  }
   DisjointSets sets(n);
-  std::vector<uint8_t> used(n, 0);
-  for (const auto& t : triangles) {
-    for (int k = 0; k < 3; ++k) {
-      used[static_cast<size_t>(t[k])] = 1;
-      sets.Union(static_cast<size_t>(t[k]), static_cast<size_t>(t[(k + 1) % 3]));
-    }
+  for (const auto& t : mesh.triangles) {
+    if (!IsProperTriangle(t, n)) continue;
+    sets.Union(static_cast<size_t>(t[0]), static_cast<size_t>(t[1]));
+    sets.Union(static_cast<size_t>(t[1]), static_cast<size_t>(t[2]));
   }
-  // Piece index per root, in order of first appearance.
-  std::vector<int32_t> piece(n, -1);
-  std::vector<MeshComponent> pieces;
-  for (size_t v = 0; v < n; ++v) {
-    if (!used[v]) continue;
-    int32_t& p = piece[sets.Find(v)];
-    if (p < 0) {
-      p = static_cast<int32_t>(pieces.size());
-      pieces.emplace_back();
-    }
-    ++pieces[static_cast<size_t>(p)].vertices;
+  // A root is its set's smallest vertex: numbering the roots in vertex order numbers the
+  // pieces by their smallest vertex.
+  std::vector<uint8_t> is_root(n, 0);
+  for (const auto& t : mesh.triangles)
+    if (IsProperTriangle(t, n)) is_root[sets.Find(static_cast<size_t>(t[0]))] = 1;
+  std::vector<int32_t> piece_of_root(n, -1);
+  int32_t count = 0;
+  for (size_t v = 0; v < n; ++v)
+    if (is_root[v] != 0) piece_of_root[v] = count++;
+  std::vector<int32_t> piece(mesh.triangles.size(), -1);
+  for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto& t = mesh.triangles[i];
+    if (IsProperTriangle(t, n)) piece[i] = piece_of_root[sets.Find(static_cast<size_t>(t[0]))];
   }
+  if (pieces != nullptr) *pieces = static_cast<size_t>(count);
+  return piece;
+}
+
+std::vector<MeshComponent> MeshComponents(const TriangleMesh& mesh) {
+  size_t count = 0;
+  const std::vector<int32_t> piece_of = TrianglePieces(mesh, &count);
+  std::vector<MeshComponent> pieces(count);
+  std::vector<uint8_t> counted(mesh.vertices.size(), 0);
   std::vector<std::pair<uint64_t, int32_t>> edges;  // (undirected edge key, piece)
-  edges.reserve(3 * triangles.size());
-  for (const auto& t : triangles) {
-    const int32_t p = piece[sets.Find(static_cast<size_t>(t[0]))];
+  edges.reserve(3 * mesh.triangles.size());
+  for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const int32_t p = piece_of[i];
+    if (p < 0) continue;
+    const auto& t = mesh.triangles[i];
     ++pieces[static_cast<size_t>(p)].triangles;
     for (int k = 0; k < 3; ++k) {
+      if (counted[static_cast<size_t>(t[k])] == 0) {
+        counted[static_cast<size_t>(t[k])] = 1;
+        ++pieces[static_cast<size_t>(p)].vertices;
+      }
       const auto a = static_cast<uint32_t>(std::min(t[k], t[(k + 1) % 3]));
       const auto b = static_cast<uint32_t>(std::max(t[k], t[(k + 1) % 3]));
       edges.emplace_back((static_cast<uint64_t>(a) << 32) | b, p);

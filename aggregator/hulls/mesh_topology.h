@@ -3,6 +3,7 @@
 // model has and how many handles (through-holes) each part has.
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "aggregator/hulls/triangle_mesh.h"
@@ -18,6 +19,11 @@ struct MeshComponent {
   // (CheckClosedManifold); meaningless otherwise.
   long genus = 0;
 };
+
+// The piece of each triangle of `mesh` (triangles connected through shared vertices), pieces
+// numbered 0.. in the order of their smallest vertex index, and their number in `pieces`.
+// Triangles with a repeated or out-of-range vertex belong to none (-1).
+std::vector<int32_t> TrianglePieces(const TriangleMesh& mesh, size_t* pieces);
 
 // The mesh's pieces, the one with the most triangles first. Triangles with a repeated or
 // out-of-range vertex are ignored.

@@ -49,5 +49,40 @@ TEST(MeshTopologyTest, TwoHolesAreGenusTwoAndBadTrianglesAreIgnored) {
   EXPECT_TRUE(MeshComponents(TriangleMesh{}).empty());
 }
 
+TEST(MeshTopologyTest, TrianglePiecesNameEachTrianglesPiece) {
+  // Three separate cubes; then a bad triangle, which belongs to none.
+  TriangleMesh mesh = VoxelSolid([](int i, int j, int k) {
+    return (i == 0 && j == 0 && k == 0) || (i == 2 && j == 2 && k == 2) ||
+           (i == 4 && j == 0 && k == 4);
+  });
+  mesh.triangles.push_back({0, 0, 1});
+  size_t count = 0;
+  const std::vector<int32_t> piece = TrianglePieces(mesh, &count);
+  ASSERT_EQ(count, 3u);
+  ASSERT_EQ(piece.size(), mesh.triangles.size());
+  EXPECT_EQ(piece.back(), -1);
+  std::vector<size_t> triangles(count, 0);
+  for (size_t t = 0; t + 1 < piece.size(); ++t) {
+    ASSERT_GE(piece[t], 0);
+    ++triangles[static_cast<size_t>(piece[t])];
+    // Triangles sharing a vertex share a piece.
+    for (size_t u = 0; u < t; ++u)
+      for (int32_t a : mesh.triangles[t])
+        for (int32_t b : mesh.triangles[u])
+          if (a == b) {
+            EXPECT_EQ(piece[t], piece[u]);
+          }
+  }
+  EXPECT_EQ(triangles, std::vector<size_t>(3, 12));
+  // Numbered by their smallest vertex.
+  std::vector<int32_t> smallest(count, static_cast<int32_t>(mesh.vertices.size()));
+  for (size_t t = 0; t + 1 < piece.size(); ++t)
+    for (int32_t v : mesh.triangles[t])
+      smallest[static_cast<size_t>(piece[t])] =
+          std::min(smallest[static_cast<size_t>(piece[t])], v);
+  EXPECT_LT(smallest[0], smallest[1]);
+  EXPECT_LT(smallest[1], smallest[2]);
+}
+
 }  // namespace
 }  // namespace silnet::aggregator
