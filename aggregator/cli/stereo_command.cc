@@ -10,6 +10,7 @@
 
 #include "aggregator/cli/cli_support.h"
 #include "aggregator/cli/commands.h"
+#include "aggregator/stereo/steps_to_interior.h"
 #include "aggregator/stereo/stereo_job.h"
 #include "shared/util/check.h"
 
@@ -26,6 +27,7 @@ struct StereoArgs {
   double finest_cells = AdaptiveTetMeshOptions{}.finest_spacing_footprints;
   const CLI::Option* finest_cells_given = nullptr;
   int silhouette_rounds = StereoGraphCutDefaults().silhouette_rounds;
+  int silhouette_join_steps = StereoGraphCutDefaults().silhouette_join_steps;
   int threads = 0;
   std::string method = "uniform";
   std::string constraints = "steps";
@@ -47,6 +49,7 @@ int RunStereo(const StereoArgs& args) {
   config.output = args.out;
   config.still = args.still;
   config.graph_cut.silhouette_rounds = args.silhouette_rounds;
+  config.graph_cut.silhouette_join_steps = args.silhouette_join_steps;
   config.threads = args.threads;
   config.method = args.method == "adaptive" ? StereoMethod::kAdaptive : StereoMethod::kUniform;
   const bool adaptive = config.method == StereoMethod::kAdaptive;
@@ -162,6 +165,12 @@ Command AddStereoCommand(CLI::App& app) {
                   "silhouette steps: re-cuts that cover the silhouette pixels the model misses "
                   "(0 = the plain cut)")
       ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--silhouette-join-steps", args->silhouette_join_steps,
+                  "uniform: a silhouette step takes the missed pixel's cell nearest the model "
+                  "within this many cells and ties the cells between them inside too, so it "
+                  "joins the model instead of floating (0 = the ray's most photo-consistent cell)")
+      ->check(CLI::Range(0, StepsToInterior::kMaxSteps))
       ->capture_default_str();
   cmd->add_option("--refine-iterations", args->refine_iterations,
                   "local refinement of the cut's surface by texture and silhouette forces "

@@ -67,6 +67,13 @@ std::string JobSummary(const StereoJobConfig& config, const StereoJobResult& res
                        r.reach.moved, r.reach.undone, r.reach.seconds)});
     }
   }
+  if (const RedundantPieceStats& pieces = result.redundant_pieces; pieces.removed > 0) {
+    table.AddRow({"floating pieces removed",
+                  fmt::format("{} of {} ({} triangles): the rest covers every silhouette pixel "
+                              "they cover, {:.1f} s",
+                              pieces.removed, pieces.pieces_before, pieces.triangles_removed,
+                              pieces.seconds)});
+  }
   table.AddRow({"total time", fmt::format("{:.1f} s", result.seconds.total)});
   html += table.ToHtml();
   if (!result.warnings.empty()) {
@@ -191,13 +198,13 @@ std::string GraphTable(const StereoJobResult& result) {
   table.AddRow({"hull cells", fmt::format("{} ({} inner pockets)", g.hull_cells, g.pocket_cells)});
   table.AddRow({"graph", fmt::format("{} nodes, {} n-links, {:.1f} MB", g.nodes, g.n_links,
                                      static_cast<double>(g.graph_bytes) / 1e6)});
-  table.AddRow(
-      {"silhouette steps",
-       g.missed_pixels_per_round.empty()
-           ? std::string("none")
-           : fmt::format("{} re-solves, {} cells forced; inner pixels missed per round: {}",
-                         g.silhouette_rounds, g.forced_cells,
-                         fmt::join(g.missed_pixels_per_round, ", "))});
+  table.AddRow({"silhouette steps",
+                g.missed_pixels_per_round.empty()
+                    ? std::string("none")
+                    : fmt::format("{} re-solves, {} cells forced ({} pixels' cells joined to the "
+                                  "model); inner pixels missed per round: {}",
+                                  g.silhouette_rounds, g.forced_cells, g.joined_pixels,
+                                  fmt::join(g.missed_pixels_per_round, ", "))});
   table.AddRow({"interior cells", std::to_string(g.interior_cells)});
   return table.ToHtml();
 }

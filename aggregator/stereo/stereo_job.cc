@@ -233,6 +233,7 @@ VolumetricGraphCutOptions StereoGraphCutDefaults() {
   options.lambda = 3.0;
   options.ballooning = 0.1;
   options.silhouette_rounds = 6;
+  options.silhouette_join_steps = 3;
   return options;
 }
 
@@ -385,6 +386,19 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
       return finish();
     }
   }
+
+  // Floating pieces no silhouette pixel needs.
+  stage = Clock::now();
+  result.redundant_pieces =
+      RemoveRedundantPieces(views.views, &model_surface, kSilhouetteMarginPx, config.threads);
+  if (const RedundantPieceStats& pieces = result.redundant_pieces; pieces.removed > 0) {
+    spdlog::info(
+        "model: {} of its {} pieces removed ({} triangles): every silhouette pixel they "
+        "cover is covered by the rest ({:.1f} s)",
+        pieces.removed, pieces.pieces_before, pieces.triangles_removed, pieces.seconds);
+    result.model = Summarise(model_surface);
+  }
+  result.seconds.refinement += SecondsSince(stage);
 
   // Evaluation.
   stage = Clock::now();

@@ -15,7 +15,9 @@
 //                      stereo of ch. 7 instead (adaptive_stereo.h; no vote lattice)
 //   refinement         the cut's surface deformed by texture and silhouette forces and
 //                      remeshed (surface_refinement.h, 7.4.3), for either method, then its
-//                      coverable missed silhouette pixels reached (missed_pixel_reach.h)
+//                      coverable missed silhouette pixels reached (missed_pixel_reach.h);
+//                      then, with or without refinement, the floating pieces no silhouette
+//                      pixel needs removed (redundant_pieces.h)
 //   evaluation         per view silhouette consistency of model and hull (model_evaluation.h)
 //                      and, when the folder has gt_surface.ply (simulated stills), accuracy
 //                      and completeness of model and hull against it, over the whole surface
@@ -46,6 +48,7 @@
 #include "aggregator/stereo/exact_constraint_cut.h"
 #include "aggregator/stereo/model_evaluation.h"
 #include "aggregator/stereo/photo_consistency.h"
+#include "aggregator/stereo/redundant_pieces.h"
 #include "aggregator/stereo/stereo_truth.h"
 #include "aggregator/stereo/surface_refinement.h"
 #include "aggregator/stereo/volumetric_graph_cut.h"
@@ -138,6 +141,7 @@ struct StereoJobResult {
   std::optional<ExactConstraintStats> exact_constraints;  // kUniform with kExact
   std::optional<AdaptiveStereoStats> adaptive;            // kAdaptive
   std::optional<SurfaceRefinementStats> refinement;       // when the cut was refined
+  RedundantPieceStats redundant_pieces;                   // of the model, timed as refinement
   StereoStageTimes seconds;
   std::vector<std::string> view_pictures;  // views/<camera>.png, relative to the output folder
 };

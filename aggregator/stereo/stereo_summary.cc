@@ -191,8 +191,8 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
      << "hull_cells" << AsInt(g.hull_cells) << "pocket_cells" << AsInt(g.pocket_cells) << "nodes"
      << AsInt(g.nodes) << "n_links" << AsInt(g.n_links) << "t_link_faces" << AsInt(g.t_link_faces)
      << "interior_cells" << AsInt(g.interior_cells) << "silhouette_rounds" << g.silhouette_rounds
-     << "forced_cells" << AsInt(g.forced_cells) << "graph_bytes"
-     << static_cast<double>(g.graph_bytes) << "lattice_bytes"
+     << "forced_cells" << AsInt(g.forced_cells) << "joined_pixels" << AsInt(g.joined_pixels)
+     << "graph_bytes" << static_cast<double>(g.graph_bytes) << "lattice_bytes"
      << static_cast<double>(g.lattice_bytes) << "cut_cost" << g.cut_cost << "}";
   if (result.exact_constraints) {
     const ExactConstraintStats& e = *result.exact_constraints;
@@ -218,6 +218,12 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
   WriteMesh(fs, "model", result.model);
   if (result.cut.triangles > 0) WriteMesh(fs, "cut", result.cut);
   if (result.refinement) WriteRefinement(fs, config.refinement, *result.refinement);
+  const RedundantPieceStats& pieces = result.redundant_pieces;
+  fs << "redundant_pieces"
+     << "{"
+     << "pieces_before" << AsInt(pieces.pieces_before) << "removed" << AsInt(pieces.removed)
+     << "triangles_removed" << AsInt(pieces.triangles_removed) << "seconds" << pieces.seconds
+     << "}";
   fs << "silhouettes"
      << "[";
   for (size_t v = 0; v < result.model.views.size(); ++v) {

@@ -6,10 +6,12 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <unordered_set>
 #include <vector>
 
 #include "aggregator/stereo/silhouette_repair.h"
+#include "aggregator/stereo/steps_to_interior.h"
 #include "aggregator/stereo/stereo_graph.h"
 #include "shared/util/check.h"
 
@@ -146,6 +148,8 @@ bool VolumetricGraphCutOptions::IsValid(std::string* reason) const {
   if (!(inner_offset_cells >= 0)) return fail("inner_offset_cells must be >= 0");
   if (!(ballooning >= 0)) return fail("ballooning must be >= 0");
   if (silhouette_rounds < 0) return fail("silhouette_rounds must be >= 0");
+  if (silhouette_join_steps < 0 || silhouette_join_steps > StepsToInterior::kMaxSteps)
+    return fail(fmt::format("silhouette_join_steps must lie in 0..{}", StepsToInterior::kMaxSteps));
   if (!(silhouette_margin_px >= 0)) return fail("silhouette_margin_px must be >= 0");
   std::string why;
   if (!surface.IsValid(&why)) return fail("surface: " + why);
@@ -166,10 +170,10 @@ std::string VolumetricGraphCutStats::Brief() const {
   std::string brief = line;
   if (!missed_pixels_per_round.empty()) {
     brief += fmt::format(
-        "; silhouette step: {} rounds, {} cells forced, {} pinned, missed inner pixels {} "
-        "({:.3f} s)",
-        silhouette_rounds, forced_cells, pinned_cells, fmt::join(missed_pixels_per_round, " "),
-        seconds_silhouette_step);
+        "; silhouette step: {} rounds, {} cells forced, {} pinned, {} pixels' cells joined to "
+        "the interior, missed inner pixels {} ({:.3f} s)",
+        silhouette_rounds, forced_cells, pinned_cells, joined_pixels,
+        fmt::join(missed_pixels_per_round, " "), seconds_silhouette_step);
   }
   return brief;
 }
@@ -236,11 +240,15 @@ VolumetricGraphCutResult VolumetricGraphCut(const VoteVolume& votes, const Voxel
   for (int round = 0; round < options.silhouette_rounds; ++round) {
     if (cancelled()) return result;
     const auto start = Clock::now();
+    std::optional<StepsToInterior> steps;
+    if (options.silhouette_join_steps > 0)
+      steps = StepsToInterior::Compute(hull, result.interior, options.silhouette_join_steps);
     const SilhouetteRepair repair =
         FindSilhouetteRepair(result.surface, hull, votes, silhouettes->cameras, silhouettes->masks,
-                             options.silhouette_margin_px);
+                             options.silhouette_margin_px, steps ? &*steps : nullptr);
     stats.seconds_silhouette_step += SecondsSince(start);
     stats.missed_pixels_per_round.push_back(repair.missed_pixels);
+    stats.joined_pixels += repair.joined;
     const size_t pins_before = pinned.cells.size();
     const std::vector<size_t> added = RepairCells(repair, hull, lattice, pinned);
     stats.forced_cells += added.size();

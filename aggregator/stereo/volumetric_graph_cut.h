@@ -35,6 +35,9 @@ struct VolumetricGraphCutOptions {
   bool extract_surface = true;         // also build the surface mesh
   int silhouette_rounds = 0;           // silhouette steps (thesis 7.4.2), >= 0
   double silhouette_margin_px = 1.0;   // pixels this far inside the outline must be covered
+  int silhouette_join_steps = 0;       // > 0: cells within this many face steps of the cut's
+                                       // interior are chosen first and joined to it (silhouette_
+                                       // repair.h), at most StepsToInterior::kMaxSteps; 0: by votes
   SurfaceExtractionOptions surface;
 
   // True if the options make sense; otherwise false with a reason.
@@ -53,6 +56,7 @@ struct VolumetricGraphCutStats {
   int silhouette_rounds = 0;  // silhouette steps that re-solved the cut or re-pinned it
   size_t forced_cells = 0;    // cells they tied to the source
   size_t pinned_cells = 0;    // cells on missed pixels' rays whose corners the surface keeps
+  size_t joined_pixels = 0;   // missed pixels whose cell was chosen next to the interior
   std::vector<size_t> missed_pixels_per_round;  // inner pixels missed before each step
   double seconds_silhouette_step = 0;           // projecting and choosing cells
   size_t lattice_cells = 0;
