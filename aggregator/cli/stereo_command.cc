@@ -32,6 +32,7 @@ struct StereoArgs {
   std::string method = "uniform";
   std::string constraints = "steps";
   int refine_iterations = SurfaceRefinementOptions{}.iterations;
+  bool remove_redundant_pieces = false;
   std::vector<std::string> leave_out;
 };
 
@@ -69,6 +70,7 @@ int RunStereo(const StereoArgs& args) {
     config.adaptive.mesh.SetFinestSpacing(args.finest_cells);
   }
   config.refinement.iterations = args.refine_iterations;
+  config.remove_redundant_pieces = args.remove_redundant_pieces;
   config.leave_out = args.leave_out;
   const auto run =
       RunWithProgress("stereo", [&](Progress* progress) { return RunStereoJob(config, progress); });
@@ -169,9 +171,14 @@ Command AddStereoCommand(CLI::App& app) {
   cmd->add_option("--silhouette-join-steps", args->silhouette_join_steps,
                   "uniform: a silhouette step takes the missed pixel's cell nearest the model "
                   "within this many cells and ties the cells between them inside too, so it "
-                  "joins the model instead of floating (0 = the ray's most photo-consistent cell)")
+                  "joins the model instead of floating (0 = the ray's most photo-consistent "
+                  "cell; fewer pieces, but less accurate where the calibration is off by a "
+                  "pixel: docs/PERFORMANCE.md)")
       ->check(CLI::Range(0, StepsToInterior::kMaxSteps))
       ->capture_default_str();
+  cmd->add_flag("--remove-redundant-pieces", args->remove_redundant_pieces,
+                "remove the model's floating pieces whose silhouette pixels the rest covers too "
+                "(a cleaner model, slightly more accurate, slightly less complete)");
   cmd->add_option("--refine-iterations", args->refine_iterations,
                   "local refinement of the cut's surface by texture and silhouette forces "
                   "(thesis 7.4.3; 0 = the graph cut's surface as it is)")

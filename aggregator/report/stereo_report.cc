@@ -67,7 +67,8 @@ std::string JobSummary(const StereoJobConfig& config, const StereoJobResult& res
                        r.reach.moved, r.reach.undone, r.reach.seconds)});
     }
   }
-  if (const RedundantPieceStats& pieces = result.redundant_pieces; pieces.removed > 0) {
+  if (result.redundant_pieces && result.redundant_pieces->removed > 0) {
+    const RedundantPieceStats& pieces = *result.redundant_pieces;
     table.AddRow({"floating pieces removed",
                   fmt::format("{} of {} ({} triangles): the rest covers every silhouette pixel "
                               "they cover, {:.1f} s",

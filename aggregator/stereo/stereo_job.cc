@@ -233,7 +233,6 @@ VolumetricGraphCutOptions StereoGraphCutDefaults() {
   options.lambda = 3.0;
   options.ballooning = 0.1;
   options.silhouette_rounds = 6;
-  options.silhouette_join_steps = 3;
   return options;
 }
 
@@ -389,9 +388,12 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
 
   // Floating pieces no silhouette pixel needs.
   stage = Clock::now();
-  result.redundant_pieces =
-      RemoveRedundantPieces(views.views, &model_surface, kSilhouetteMarginPx, config.threads);
-  if (const RedundantPieceStats& pieces = result.redundant_pieces; pieces.removed > 0) {
+  if (config.remove_redundant_pieces) {
+    result.redundant_pieces =
+        RemoveRedundantPieces(views.views, &model_surface, kSilhouetteMarginPx, config.threads);
+  }
+  if (result.redundant_pieces && result.redundant_pieces->removed > 0) {
+    const RedundantPieceStats& pieces = *result.redundant_pieces;
     spdlog::info(
         "model: {} of its {} pieces removed ({} triangles): every silhouette pixel they "
         "cover is covered by the rest ({:.1f} s)",

@@ -16,8 +16,8 @@
 //   refinement         the cut's surface deformed by texture and silhouette forces and
 //                      remeshed (surface_refinement.h, 7.4.3), for either method, then its
 //                      coverable missed silhouette pixels reached (missed_pixel_reach.h);
-//                      then, with or without refinement, the floating pieces no silhouette
-//                      pixel needs removed (redundant_pieces.h)
+//                      then, when asked for, with or without refinement, the floating pieces
+//                      no silhouette pixel needs removed (redundant_pieces.h)
 //   evaluation         per view silhouette consistency of model and hull (model_evaluation.h)
 //                      and, when the folder has gt_surface.ply (simulated stills), accuracy
 //                      and completeness of model and hull against it, over the whole surface
@@ -94,7 +94,10 @@ struct StereoJobConfig {
   SilhouetteConstraints constraints = SilhouetteConstraints::kSteps;  // with kUniform
   AdaptiveStereoOptions adaptive;       // with kAdaptive (threads set by `threads`)
   SurfaceRefinementOptions refinement;  // of either method's cut; 0 iterations: none
-  int threads = 0;                      // 0 = all cores
+  // Remove the model's floating pieces no silhouette pixel needs (redundant_pieces.h): a
+  // cleaner model, slightly more accurate and slightly less complete (docs/PERFORMANCE.md).
+  bool remove_redundant_pieces = false;
+  int threads = 0;  // 0 = all cores
 
   // True if the settings make sense; otherwise false with a reason.
   bool IsValid(std::string* reason) const;
@@ -141,7 +144,7 @@ struct StereoJobResult {
   std::optional<ExactConstraintStats> exact_constraints;  // kUniform with kExact
   std::optional<AdaptiveStereoStats> adaptive;            // kAdaptive
   std::optional<SurfaceRefinementStats> refinement;       // when the cut was refined
-  RedundantPieceStats redundant_pieces;                   // of the model, timed as refinement
+  std::optional<RedundantPieceStats> redundant_pieces;    // when asked for; timed as refinement
   StereoStageTimes seconds;
   std::vector<std::string> view_pictures;  // views/<camera>.png, relative to the output folder
 };

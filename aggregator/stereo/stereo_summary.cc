@@ -218,12 +218,14 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
   WriteMesh(fs, "model", result.model);
   if (result.cut.triangles > 0) WriteMesh(fs, "cut", result.cut);
   if (result.refinement) WriteRefinement(fs, config.refinement, *result.refinement);
-  const RedundantPieceStats& pieces = result.redundant_pieces;
-  fs << "redundant_pieces"
-     << "{"
-     << "pieces_before" << AsInt(pieces.pieces_before) << "removed" << AsInt(pieces.removed)
-     << "triangles_removed" << AsInt(pieces.triangles_removed) << "seconds" << pieces.seconds
-     << "}";
+  if (result.redundant_pieces) {
+    const RedundantPieceStats& pieces = *result.redundant_pieces;
+    fs << "redundant_pieces"
+       << "{"
+       << "pieces_before" << AsInt(pieces.pieces_before) << "removed" << AsInt(pieces.removed)
+       << "triangles_removed" << AsInt(pieces.triangles_removed) << "seconds" << pieces.seconds
+       << "}";
+  }
   fs << "silhouettes"
      << "[";
   for (size_t v = 0; v < result.model.views.size(); ++v) {
