@@ -26,20 +26,21 @@ std::vector<int32_t> TrianglePieces(const TriangleMesh& mesh, size_t* pieces) {
     sets.Union(static_cast<size_t>(t[0]), static_cast<size_t>(t[1]));
     sets.Union(static_cast<size_t>(t[1]), static_cast<size_t>(t[2]));
   }
-  // A root is its set's smallest vertex: numbering the roots in vertex order numbers the
-  // pieces by their smallest vertex.
-  std::vector<uint8_t> is_root(n, 0);
-  for (const auto& t : mesh.triangles)
-    if (IsProperTriangle(t, n)) is_root[sets.Find(static_cast<size_t>(t[0]))] = 1;
-  std::vector<int32_t> piece_of_root(n, -1);
-  int32_t count = 0;
-  for (size_t v = 0; v < n; ++v)
-    if (is_root[v] != 0) piece_of_root[v] = count++;
+  // Each proper triangle's root first; a root is its set's smallest vertex, so numbering the
+  // roots in vertex order numbers the pieces by their smallest vertex.
   std::vector<int32_t> piece(mesh.triangles.size(), -1);
+  std::vector<int32_t> piece_of_root(n, -1);
   for (size_t i = 0; i < mesh.triangles.size(); ++i) {
-    const auto& t = mesh.triangles[i];
-    if (IsProperTriangle(t, n)) piece[i] = piece_of_root[sets.Find(static_cast<size_t>(t[0]))];
+    if (!IsProperTriangle(mesh.triangles[i], n)) continue;
+    const size_t root = sets.Find(static_cast<size_t>(mesh.triangles[i][0]));
+    piece[i] = static_cast<int32_t>(root);
+    piece_of_root[root] = 0;
   }
+  int32_t count = 0;
+  for (int32_t& p : piece_of_root)
+    if (p == 0) p = ++count;
+  for (int32_t& p : piece)
+    if (p >= 0) p = piece_of_root[static_cast<size_t>(p)] - 1;
   if (pieces != nullptr) *pieces = static_cast<size_t>(count);
   return piece;
 }

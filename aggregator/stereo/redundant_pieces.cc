@@ -21,12 +21,12 @@ struct PieceMark {
   uint32_t pixel;  // y * width + x
 };
 
-// The pixels of one view the pieces other than `body` cover among the inner pixels `body`
-// misses: one mark per piece and pixel, and per pixel how many pieces cover it.
+// The pixels of one view the triangles `by_piece` (grouped by piece, the body's left out) cover
+// among the inner pixels the body misses (`body_covered`): one mark per piece and pixel, and
+// per pixel how many pieces cover it.
 void MarkView(const StereoView& view, const TriangleMesh& mesh, const std::vector<int32_t>& piece,
-              const std::vector<size_t>& by_piece, int32_t body, const cv::Mat& body_covered,
-              double margin_px, uint32_t v, std::vector<PieceMark>* marks,
-              std::vector<uint16_t>* count) {
+              const std::vector<size_t>& by_piece, const cv::Mat& body_covered, double margin_px,
+              uint32_t v, std::vector<PieceMark>* marks, std::vector<uint16_t>* count) {
   const cv::Mat inner = InnerSilhouettePixels(view.mask, margin_px);
   const int width = view.camera.width, height = view.camera.height;
   count->assign(static_cast<size_t>(width) * static_cast<size_t>(height), 0);
@@ -36,7 +36,6 @@ void MarkView(const StereoView& view, const TriangleMesh& mesh, const std::vecto
   };
   for (size_t t : by_piece) {
     const int32_t p = piece[t];
-    if (p == body) continue;
     const auto& tri = mesh.triangles[t];
     const auto a = project(tri[0]), b = project(tri[1]), c = project(tri[2]);
     if (!a || !b || !c) continue;
@@ -105,8 +104,8 @@ RedundantPieceStats RemoveRedundantPieces(const std::vector<StereoView>& views, 
   std::vector<std::vector<uint16_t>> count(views.size());
   ParallelFor(views.size(), threads, [&](size_t v) {
     const cv::Mat body_covered = RenderMeshSilhouette(body_mesh, views[v].camera);
-    MarkView(views[v], *mesh, piece, by_piece, body, body_covered, margin_px,
-             static_cast<uint32_t>(v), &marks[v], &count[v]);
+    MarkView(views[v], *mesh, piece, by_piece, body_covered, margin_px, static_cast<uint32_t>(v),
+             &marks[v], &count[v]);
   });
   std::vector<PieceMark> all;
   for (const auto& m : marks)

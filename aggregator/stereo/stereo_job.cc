@@ -389,16 +389,15 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   // Floating pieces no silhouette pixel needs.
   stage = Clock::now();
   if (config.remove_redundant_pieces) {
-    result.redundant_pieces =
-        RemoveRedundantPieces(views.views, &model_surface, kSilhouetteMarginPx, config.threads);
-  }
-  if (result.redundant_pieces && result.redundant_pieces->removed > 0) {
-    const RedundantPieceStats& pieces = *result.redundant_pieces;
-    spdlog::info(
-        "model: {} of its {} pieces removed ({} triangles): every silhouette pixel they "
-        "cover is covered by the rest ({:.1f} s)",
-        pieces.removed, pieces.pieces_before, pieces.triangles_removed, pieces.seconds);
-    result.model = Summarise(model_surface);
+    const RedundantPieceStats& pieces = result.redundant_pieces.emplace(
+        RemoveRedundantPieces(views.views, &model_surface, kSilhouetteMarginPx, config.threads));
+    if (pieces.removed > 0) {
+      spdlog::info(
+          "model: {} of its {} pieces removed ({} triangles): every silhouette pixel they "
+          "cover is covered by the rest ({:.1f} s)",
+          pieces.removed, pieces.pieces_before, pieces.triangles_removed, pieces.seconds);
+      result.model = Summarise(model_surface);
+    }
   }
   result.seconds.refinement += SecondsSince(stage);
 
