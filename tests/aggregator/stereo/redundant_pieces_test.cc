@@ -21,17 +21,6 @@ namespace {
 const Eigen::Vector3d kCentre(0.0, 0.0, 1.0);
 constexpr double kRadius = 0.1;
 
-// `mesh` with `piece` appended as a separate piece.
-void Append(const TriangleMesh& piece, TriangleMesh* mesh) {
-  const auto offset = static_cast<int32_t>(mesh->vertices.size());
-  mesh->vertices.insert(mesh->vertices.end(), piece.vertices.begin(), piece.vertices.end());
-  for (auto t : piece.triangles) {
-    for (int32_t& v : t)
-      v += offset;
-    mesh->triangles.push_back(t);
-  }
-}
-
 // Six ring views of the sphere whose silhouettes are those of `model` exactly.
 std::vector<StereoView> ViewsOf(const TriangleMesh& model) {
   std::vector<StereoView> views =
@@ -43,10 +32,11 @@ std::vector<StereoView> ViewsOf(const TriangleMesh& model) {
 
 TEST(RedundantPiecesTest, RemovesThePiecesNoPixelNeedsAndKeepsTheOthers) {
   TriangleMesh model = testing::Icosphere(kCentre, kRadius, 4);
-  Append(testing::Icosphere(kCentre, 0.3 * kRadius, 2), &model);  // inside: hidden everywhere
+  testing::AppendPiece(testing::Icosphere(kCentre, 0.3 * kRadius, 2),
+                       &model);  // inside: hidden everywhere
   const TriangleMesh blob = testing::Icosphere(kCentre + Eigen::Vector3d(0, 0, 0.13), 0.02, 2);
-  Append(blob, &model);
-  Append(blob, &model);  // a copy: either one covers the blob's pixels
+  testing::AppendPiece(blob, &model);
+  testing::AppendPiece(blob, &model);  // a copy: either one covers the blob's pixels
   const std::vector<StereoView> views = ViewsOf(model);
   const TriangleMesh before = model;
 

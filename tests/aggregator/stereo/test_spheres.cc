@@ -31,6 +31,16 @@ TriangleMesh Icosphere(const Eigen::Vector3d& centre, double radius, int levels)
   return mesh;
 }
 
+void AppendPiece(const TriangleMesh& piece, TriangleMesh* mesh) {
+  const auto offset = static_cast<int32_t>(mesh->vertices.size());
+  mesh->vertices.insert(mesh->vertices.end(), piece.vertices.begin(), piece.vertices.end());
+  for (auto t : piece.triangles) {
+    for (int32_t& v : t)
+      v += offset;
+    mesh->triangles.push_back(t);
+  }
+}
+
 std::vector<StereoView> TexturedSphereViews(const Eigen::Vector3d& centre, double radius,
                                             int cameras, double distance, int width, int height,
                                             double focal) {

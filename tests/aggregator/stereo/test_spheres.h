@@ -14,6 +14,9 @@ namespace silnet::aggregator::testing {
 // vertices on the sphere, oriented outwards.
 TriangleMesh Icosphere(const Eigen::Vector3d& centre, double radius, int levels);
 
+// `mesh` with `piece` appended as a separate piece (its vertices after the mesh's).
+void AppendPiece(const TriangleMesh& piece, TriangleMesh* mesh);
+
 // `cameras` views (width x height, focal length `focal` px, centred principal point) on a ring
 // of radius `distance` around the z axis at the centre's height, looking at the sphere; every
 // pixel whose ray meets the sphere is silhouette and shows a fixed texture of the surface
