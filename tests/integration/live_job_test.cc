@@ -214,10 +214,11 @@ TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsStillsModelAndReport) {
       "statue from the live calibration: accuracy %.2f fp (hull %.2f), %.1f %% within 2 fp\n",
       accuracy, hull_accuracy, 100 * within_2fp);
   EXPECT_LT(accuracy, hull_accuracy);
-  // The stereo issue's targets: accuracy <= 1.5 fp, >= 97 % within 2 fp. Measured 1.04 fp and
-  // 97.7 % (registered at the statue; outline pixels the statue covers less than half of
-  // dropped by the nodes, weak silhouette evidence confirmed by the other views' silhouettes
-  // and weak evidence: docs/PERFORMANCE.md).
+  // The stereo issue's targets: accuracy <= 1.5 fp, >= 97 % within 2 fp. Measured 1.04-1.09 fp
+  // and 97.05-97.7 % in the runs kept, the live calibration differing run to run (registered
+  // at the statue; outline pixels the statue covers less than half of dropped by the nodes,
+  // weak silhouette evidence confirmed by the other views' silhouettes and weak evidence:
+  // docs/PERFORMANCE.md).
   EXPECT_LE(accuracy, 1.5);
   EXPECT_GE(within_2fp, 0.97);
   EXPECT_NE(live.Stdout().find("stills       8 of 8 cameras"), std::string::npos) << live.Stdout();
