@@ -96,9 +96,16 @@ struct IngestService::Impl {
     const bool late = record.session == t.status.session && t.any &&
                       record.frame_index < t.held.max() &&
                       !(record.flags & silnet_wire_FRAME_RESENT);
+    const bool without_contour =
+        (record.flags & (silnet_wire_FRAME_DROPPED | silnet_wire_FRAME_BAD_INPUT)) != 0;
     switch (store.Add(SessionRecordType::kHullFrame, record)) {
       case StoreResult::kDuplicate:
         ++t.status.duplicates;
+        // A dropped or unusable frame held already and scheduled for a contour when the
+        // node's contour rate arrived (ScheduleMissingContours does not know its flags):
+        // the node re-sends it as it was, and it has no contour to wait for.
+        if (without_contour && record.session == t.status.session)
+          t.contour_due.erase(record.frame_index);
         return;
       case StoreResult::kFailed:
         ++t.status.store_failures;
@@ -114,15 +121,14 @@ struct IngestService::Impl {
     t.held.Insert(record.frame_index);
     if (options.on_hull_stored) options.on_hull_stored(record);
     t.any = true;
-    const bool has_contour =
-        t.contour_every > 0 && record.frame_index % static_cast<uint64_t>(t.contour_every) == 0 &&
-        !(record.flags & (silnet_wire_FRAME_DROPPED | silnet_wire_FRAME_BAD_INPUT));
+    const bool has_contour = t.contour_every > 0 &&
+                             record.frame_index % static_cast<uint64_t>(t.contour_every) == 0 &&
+                             !without_contour;
     if (has_contour && !store.HasContour(record.camera_id, record.session, record.frame_index)) {
       t.contour_due.emplace(record.frame_index, Clock::now());
     }
     // A frame re-sent as dropped or unusable has no contour to wait for.
-    if (record.flags & (silnet_wire_FRAME_DROPPED | silnet_wire_FRAME_BAD_INPUT))
-      t.contour_due.erase(record.frame_index);
+    if (without_contour) t.contour_due.erase(record.frame_index);
   }
 
   void ReportStoreFailure() {

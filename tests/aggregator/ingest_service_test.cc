@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <opencv2/core/persistence.hpp>
+#include <vector>
 
 #include "shared/dds/sample_conversions.h"
 #include "shared/silhouette/hull_codec.h"
@@ -95,6 +97,79 @@ TEST(IngestService, CountsDuplicatesOutOfOrderAndMalformedSamplesAndAsksForGaps)
   EXPECT_EQ(resends[0].session, 3u);
   EXPECT_EQ(resends[0].from_frame, 3u);
   EXPECT_EQ(resends[0].to_frame, 3u);
+}
+
+// Frames a node dropped, held before its contour rate was known, are first waited for (the
+// rate schedules a contour for every frame held); their re-sent hulls, duplicates flagged
+// dropped or unusable, end the wait instead of leaving it asked for forever (a node_stream
+// test under load asked for two such frames until the ingest gave up).
+TEST(IngestService, ReSentDroppedFramesEndTheWaitForTheirContours) {
+  testing::TempDir dir;
+  IngestOptions options = StoringIn(dir);
+  options.resend_grace = milliseconds(50);
+  options.resend_interval = milliseconds(100);
+  IngestService ingest(options);
+  ingest.Open();
+
+  dds::Participant participant(options.domain);
+  dds::Topic<silnet_wire_HullFrame> topic(participant);
+  dds::Writer<silnet_wire_HullFrame> writer(topic);
+  dds::Topic<silnet_wire_CameraInfo> info_topic(participant);
+  dds::Writer<silnet_wire_CameraInfo> info_writer(info_topic);
+  dds::Topic<silnet_wire_Command> command_topic(participant);
+  dds::Reader<silnet_wire_Command> commands(command_topic);
+  ASSERT_TRUE(writer.WaitForReaders(1, std::chrono::seconds(10)));
+  ASSERT_TRUE(info_writer.WaitForReaders(1, std::chrono::seconds(10)));
+  std::vector<FrameRecord> frames = {Good(0), Good(1)};
+  frames[0].flags = silnet_wire_FRAME_DROPPED;
+  frames[1].flags = silnet_wire_FRAME_BAD_INPUT;
+  const auto send = [&](const FrameRecord& r) {
+    silnet_wire_HullFrame sample;
+    dds::ToWire(r, &sample);
+    ASSERT_TRUE(writer.Write(sample));
+    ASSERT_TRUE(writer.WaitForAcknowledgements(std::chrono::seconds(10)));
+  };
+  const auto poll_until = [&](const std::function<bool()>& done) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!done() && std::chrono::steady_clock::now() < deadline)
+      ingest.Poll(milliseconds(20));
+    return done();
+  };
+  for (const FrameRecord& r : frames)
+    send(r);
+  ASSERT_TRUE(
+      poll_until([&] { return !ingest.Status().empty() && ingest.Status()[0].frames_held == 2; }));
+
+  CameraInfoRecord info;
+  info.camera_id = "cam05";
+  info.session = 3;
+  info.width = 640;
+  info.height = 480;
+  info.nominal_fps = 30;
+  info.parameters["contour_every"] = "1";
+  silnet_wire_CameraInfo info_sample{};
+  std::vector<silnet_wire_Parameter> storage;
+  dds::ToWire(info, &info_sample, &storage);
+  ASSERT_TRUE(info_writer.Write(info_sample));
+  ASSERT_TRUE(info_writer.WaitForAcknowledgements(std::chrono::seconds(10)));
+  // Both frames are now due and asked for.
+  std::vector<silnet_wire_Command> resends;
+  ASSERT_TRUE(poll_until([&] {
+    commands.Take(
+        [&](const silnet_wire_Command& c, const dds_sample_info_t&) { resends.push_back(c); });
+    return !resends.empty();
+  }));
+  EXPECT_EQ(ingest.Totals().contours_overdue, 2u);
+  EXPECT_EQ(resends[0].from_frame, 0u);
+
+  // The node re-sends them as they were.
+  for (FrameRecord r : frames) {
+    r.flags |= silnet_wire_FRAME_RESENT;
+    send(r);
+  }
+  EXPECT_TRUE(poll_until([&] { return ingest.Totals().contours_overdue == 0; }))
+      << ingest.Totals().contours_overdue << " contours still overdue";
+  EXPECT_EQ(ingest.Status()[0].duplicates, 2u);
 }
 
 // A node's own losses reach the camera's status, the totals and the summary file.
