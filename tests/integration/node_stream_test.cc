@@ -48,6 +48,29 @@ std::vector<SessionFrames> Sessions(const std::filesystem::path& store, const st
   return ReadSessionLog(SessionLogPath(store, camera));
 }
 
+// Hull frames of the first session in `log` so far (0 while the log is not there or not
+// readable yet: it may be being written).
+size_t FirstSessionHulls(const std::filesystem::path& log) {
+  try {
+    const std::vector<SessionFrames> sessions = ReadSessionLog(log);
+    return sessions.empty() ? 0 : sessions[0].hulls.size();
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+
+// Waits up to `timeout` for the first session in `log` to hold at least `count` hull frames;
+// returns how many it holds then.
+size_t WaitForHulls(const std::filesystem::path& log, size_t count, seconds timeout) {
+  const auto until = std::chrono::steady_clock::now() + timeout;
+  size_t held = FirstSessionHulls(log);
+  while (held < count && std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    held = FirstSessionHulls(log);
+  }
+  return held;
+}
+
 // Hull frame indices in the order the store received them.
 std::vector<uint64_t> ArrivalOrder(const std::filesystem::path& log) {
   RecordLogReader reader;
@@ -147,10 +170,17 @@ TEST(NodeStream, ANodeKilledAndRestartedLosesNoRecordedFrame) {
       "--linger",    "6",     "--record", (work / "node-recording").string()};
   auto first_node = std::make_unique<testing::ChildProcess>(kNode, node_args, work.path());
   // The aggregator dies first, then the node: frames of the first session exist only in the
-  // node's recording.
-  std::this_thread::sleep_for(seconds(2));
+  // node's recording. Each dies once the frames are there, not after a time: on a busy
+  // machine a node may take seconds to start (the restarted aggregator learns of the first
+  // session from the frames it stored).
+  const size_t stored_first =
+      WaitForHulls(SessionLogPath(work / "agg/sessions", "cam00"), 30, seconds(60));
+  ASSERT_GE(stored_first, 30u) << first_node->Stderr();
   first_aggregator->Kill(SIGKILL);
-  std::this_thread::sleep_for(seconds(1));
+  ASSERT_GE(WaitForHulls(SessionLogPath(work / "node-recording", "cam00"), stored_first + 20,
+                         seconds(60)),
+            stored_first + 20)
+      << first_node->Stderr();
   first_node->Kill(SIGKILL);
   testing::ChildProcess aggregator(kAggregator, ingest, work.path());
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
