@@ -90,12 +90,13 @@ int PrintStereoResult(const StereoJobResult& result, const std::string& out) {
     std::printf(
         "stereo (adaptive): %zu views, model %zu triangles, %zu cells (finest %.2f mm); "
         "silhouette pixels >= 1 px inside missed %zu (%zu no consistent model covers), outside "
-        "covered %zu; %.1f s (hull %.1f, "
+        "covered %zu (%zu traded for those of other views); %.1f s (hull %.1f, "
         "adaptive stereo %.1f) -> %s/model.ply\n",
         result.views, result.model.triangles, result.adaptive->cells,
         result.adaptive->finest_spacing * 1e3, result.model.MissedInner(),
-        result.model.MissedUncoverable(), result.model.CoveredOuter(), result.seconds.total,
-        result.seconds.hull, result.seconds.graph_cut, out.c_str());
+        result.model.MissedUncoverable(), result.model.CoveredOuter(),
+        result.model.CoveredOuterTraded(), result.seconds.total, result.seconds.hull,
+        result.seconds.graph_cut, out.c_str());
     PrintEvaluation("model", result.model);
     PrintEvaluation("graph-cut surface", result.cut);
     PrintEvaluation("visual hull", result.hull);
@@ -104,13 +105,13 @@ int PrintStereoResult(const StereoJobResult& result, const std::string& out) {
   std::printf(
       "stereo: %zu views, model %zu triangles, lattice %dx%dx%d of %.2f mm, %zu graph nodes; "
       "silhouette pixels >= 1 px inside missed %zu (%zu no consistent model covers), outside "
-      "covered %zu; %.1f s "
+      "covered %zu (%zu traded for those of other views); %.1f s "
       "(hull %.1f, photo-consistency %.1f, graph cut %.1f) -> %s/model.ply\n",
       result.views, result.model.triangles, result.lattice_dims[0], result.lattice_dims[1],
       result.lattice_dims[2], result.cell_size * 1e3, result.graph_cut.nodes,
       result.model.MissedInner(), result.model.MissedUncoverable(), result.model.CoveredOuter(),
-      result.seconds.total, result.seconds.hull, result.seconds.photo_consistency,
-      result.seconds.graph_cut, out.c_str());
+      result.model.CoveredOuterTraded(), result.seconds.total, result.seconds.hull,
+      result.seconds.photo_consistency, result.seconds.graph_cut, out.c_str());
   PrintEvaluation("model", result.model);
   PrintEvaluation("graph-cut surface", result.cut);
   PrintEvaluation("visual hull", result.hull);

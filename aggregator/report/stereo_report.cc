@@ -86,6 +86,11 @@ std::string JobSummary(const StereoJobConfig& config, const StereoJobResult& res
   return html;
 }
 
+// "count" alone, or "count (part label)" when part of it is of that kind.
+std::string WithShare(size_t count, size_t part, const char* label) {
+  return part == 0 ? std::to_string(count) : fmt::format("{} ({} {})", count, part, label);
+}
+
 // "6.20 mm (1.06 fp)" and "61.0 % within 1 fp, 73.9 % within 2 fp".
 std::string AccuracyText(double metres, double footprints) {
   return fmt::format("{:.2f} mm ({:.2f} fp)", metres * 1e3, footprints);
@@ -155,10 +160,9 @@ std::string MeshTable(const StereoJobResult& result) {
         {name, std::to_string(m.triangles), m.closed_manifold ? "yes" : "no",
          std::to_string(m.pieces), std::to_string(m.main_genus),
          fmt::format("{:.1f}", m.volume_m3 * 1e6),
-         m.views.empty()
-             ? kNone
-             : fmt::format("{} ({} uncoverable)", m.MissedInner(), m.MissedUncoverable()),
-         m.views.empty() ? kNone : std::to_string(m.CoveredOuter()), accuracy, completeness},
+         m.views.empty() ? kNone : WithShare(m.MissedInner(), m.MissedUncoverable(), "uncoverable"),
+         m.views.empty() ? kNone : WithShare(m.CoveredOuter(), m.CoveredOuterTraded(), "traded"),
+         accuracy, completeness},
         m.closed_manifold ? "" : "bad");
   };
   add("model", result.model);
@@ -170,7 +174,9 @@ std::string MeshTable(const StereoJobResult& result) {
              "outline (missed) or outside it (covered); an exactly silhouette-consistent "
              "model has 0 and 0. Uncoverable: missed pixels whose viewing ray meets no point "
              "less than 1 px outside every other view's silhouette, where the cameras and "
-             "silhouettes disagree; no consistent model covers them. Accuracy and "
+             "silhouettes disagree; no consistent model covers them. Traded: covered pixels "
+             "where the model's surface covers another view's uncoverable pixel, the price "
+             "of covering it. Accuracy and "
              "completeness are measured against the simulation's true surface "
              "(gt_surface.ply) when the stills have one; fp = pixel footprints at the object.",
              "muted");
@@ -217,10 +223,14 @@ std::string ViewTable(const StereoJobResult& result) {
     const SilhouetteConsistency& m = result.model.views[v];
     const bool hull = v < result.hull.views.size();
     table.AddRow({m.camera_id, std::to_string(m.silhouette_pixels), std::to_string(m.inner_pixels),
-                  std::to_string(m.missed_inner),
-                  hull ? std::to_string(result.hull.views[v].missed_inner) : kNone,
-                  std::to_string(m.covered_outer),
-                  hull ? std::to_string(result.hull.views[v].covered_outer) : kNone},
+                  WithShare(m.missed_inner, m.missed_uncoverable, "uncoverable"),
+                  hull ? WithShare(result.hull.views[v].missed_inner,
+                                   result.hull.views[v].missed_uncoverable, "uncoverable")
+                       : kNone,
+                  WithShare(m.covered_outer, m.covered_outer_traded, "traded"),
+                  hull ? WithShare(result.hull.views[v].covered_outer,
+                                   result.hull.views[v].covered_outer_traded, "traded")
+                       : kNone},
                  m.missed_inner > 0 || m.covered_outer > 0 ? "warn" : "");
   }
   std::string html = table.ToHtml("no view was measured");

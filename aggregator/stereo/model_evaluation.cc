@@ -7,10 +7,12 @@
 #include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <random>
 
 #include "aggregator/hulls/hull_reprojection.h"
 #include "aggregator/stereo/nearest_point.h"
+#include "aggregator/stereo/traded_outer_pixels.h"
 #include "aggregator/stereo/uncoverable_pixels.h"
 #include "shared/util/check.h"
 
@@ -274,7 +276,8 @@ cv::Mat InnerSilhouettePixels(const cv::Mat& mask, double margin_px) {
 }
 
 SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, const cv::Mat& mask,
-                                                   double margin_px, cv::Mat* missed_inner) {
+                                                   double margin_px, cv::Mat* missed_inner,
+                                                   cv::Mat* covered_outer) {
   SILNET_CHECK(rendered.type() == CV_8UC1 && mask.type() == CV_8UC1);
   SILNET_CHECK(rendered.size() == mask.size());
   const cv::Mat inner = InnerSilhouettePixels(mask, margin_px);
@@ -282,6 +285,7 @@ SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, cons
   cv::Mat depth_out;
   cv::distanceTransform(mask == 0, depth_out, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
   const float threshold = static_cast<float>(margin_px + 0.5);
+  if (covered_outer) *covered_outer = (depth_out >= threshold) & (rendered != 0);
   SilhouetteConsistency result;
   for (int y = 0; y < mask.rows; ++y) {
     const uint8_t* m = mask.ptr<uint8_t>(y);
@@ -326,13 +330,25 @@ std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(
     const TriangleMesh& model, const std::vector<StereoView>& views, double margin_px) {
   std::vector<SilhouetteConsistency> out;
   const GrownSilhouettes grown = GrowSilhouettes(views, margin_px);
+  std::vector<cv::Mat> inner;
+  std::optional<UncoverableInnerPixels> uncoverable;
   for (size_t v = 0; v < views.size(); ++v) {
     const StereoView& view = views[v];
     const cv::Mat rendered = RenderMeshSilhouette(model, view.camera);
-    cv::Mat missed;
-    SilhouetteConsistency c = CompareSilhouetteConsistency(rendered, view.mask, margin_px, &missed);
+    cv::Mat missed, covered_outer;
+    SilhouetteConsistency c =
+        CompareSilhouetteConsistency(rendered, view.mask, margin_px, &missed, &covered_outer);
     c.camera_id = view.camera.id;
     if (c.missed_inner > 0) c.missed_uncoverable = CountUncoverable(views, grown, v, missed);
+    if (c.covered_outer > 0) {
+      if (!uncoverable) {
+        for (const StereoView& other : views)
+          inner.push_back(InnerSilhouettePixels(other.mask, margin_px));
+        uncoverable.emplace(views, grown, inner);
+      }
+      c.covered_outer_traded =
+          CountOuterCoveredForUncoverable(model, views, v, covered_outer, *uncoverable);
+    }
     out.push_back(c);
   }
   return out;

@@ -140,8 +140,12 @@ struct SilhouetteConsistency {
   // Of those, pixels no model consistent with the other views covers: their rays meet no
   // point inside every other silhouette grown by the margin (uncoverable_pixels.h).
   size_t missed_uncoverable = 0;
-  size_t outer_pixels = 0;        // background pixels >= margin outside the outline
-  size_t covered_outer = 0;       // of which the model covers
+  size_t outer_pixels = 0;   // background pixels >= margin outside the outline
+  size_t covered_outer = 0;  // of which the model covers
+  // Of those, pixels covered at a surface point another view sees on one of its inner pixels
+  // that no consistent model covers: the price of covering that pixel
+  // (traded_outer_pixels.h).
+  size_t covered_outer_traded = 0;
   size_t missed_pixels = 0;       // all silhouette pixels not covered
   size_t covered_background = 0;  // all background pixels covered
 };
@@ -155,11 +159,13 @@ inline constexpr double kSilhouetteMarginPx = 1.0;
 cv::Mat InnerSilhouettePixels(const cv::Mat& mask, double margin_px = kSilhouetteMarginPx);
 
 // Compares a coverage image (CV_8UC1, non-zero = covered) with a mask (CV_8UC1, non-zero =
-// silhouette) of the same size; CheckError otherwise. `missed_inner` (may be null) receives
-// the inner silhouette pixels not covered (CV_8UC1, 255).
+// silhouette) of the same size; CheckError otherwise. `missed_inner` and `covered_outer` (may
+// be null) receive the inner silhouette pixels not covered and the outer pixels covered
+// (CV_8UC1, 255).
 SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, const cv::Mat& mask,
                                                    double margin_px = kSilhouetteMarginPx,
-                                                   cv::Mat* missed_inner = nullptr);
+                                                   cv::Mat* missed_inner = nullptr,
+                                                   cv::Mat* covered_outer = nullptr);
 
 // The share of the silhouette pixels at least `margin_px` inside the outline of `masks`
 // (CV_8UC1, non-zero = silhouette, one per camera) that `surface` misses, rendered by the
@@ -168,7 +174,8 @@ double MissedInnerShare(const TriangleMesh& surface, const std::vector<CameraMod
                         const std::vector<cv::Mat>& masks, double margin_px = kSilhouetteMarginPx);
 
 // Renders `model` into every view (RenderMeshSilhouette) and compares it with the view's mask,
-// telling the missed inner pixels no consistent model covers (missed_uncoverable) apart.
+// telling the missed inner pixels no consistent model covers (missed_uncoverable) and the
+// outer pixels covered in trade for another view's such pixel (covered_outer_traded) apart.
 std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(
     const TriangleMesh& model, const std::vector<StereoView>& views,
     double margin_px = kSilhouetteMarginPx);

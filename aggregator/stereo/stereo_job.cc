@@ -224,6 +224,10 @@ size_t StereoMeshSummary::MissedUncoverable() const {
   return SumOverViews(views, &SilhouetteConsistency::missed_uncoverable);
 }
 
+size_t StereoMeshSummary::CoveredOuterTraded() const {
+  return SumOverViews(views, &SilhouetteConsistency::covered_outer_traded);
+}
+
 std::string ToString(StereoMethod method) {
   return method == StereoMethod::kAdaptive ? "adaptive" : "uniform";
 }

@@ -120,11 +120,13 @@ struct StereoMeshSummary {
   std::vector<SilhouetteConsistency> views;   // against each view's mask
   std::optional<ModelEvaluation> evaluation;  // against gt_surface.ply, when present
 
-  // Over all views: inner silhouette pixels the mesh misses, outer pixels it covers, and of
-  // the missed ones those no model consistent with the other views covers.
+  // Over all views: inner silhouette pixels the mesh misses, outer pixels it covers, of the
+  // missed ones those no model consistent with the other views covers, and of the covered
+  // ones those covered in trade for another view's such pixel.
   size_t MissedInner() const;
   size_t CoveredOuter() const;
   size_t MissedUncoverable() const;
+  size_t CoveredOuterTraded() const;
 };
 
 // What the job did.

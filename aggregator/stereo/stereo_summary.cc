@@ -56,7 +56,8 @@ void WriteMesh(cv::FileStorage& fs, const std::string& name, const StereoMeshSum
      << "main_genus" << static_cast<int>(m.main_genus) << "volume_m3" << m.volume_m3;
   if (!m.views.empty()) {
     fs << "missed_inner_pixels" << AsInt(m.MissedInner()) << "missed_uncoverable_pixels"
-       << AsInt(m.MissedUncoverable()) << "covered_outer_pixels" << AsInt(m.CoveredOuter());
+       << AsInt(m.MissedUncoverable()) << "covered_outer_pixels" << AsInt(m.CoveredOuter())
+       << "covered_outer_traded_pixels" << AsInt(m.CoveredOuterTraded());
   }
   if (m.evaluation) {
     fs << "evaluation";
@@ -234,11 +235,13 @@ void WriteStereoSummary(const StereoJobConfig& config, const StereoJobResult& re
        << "camera" << m.camera_id << "silhouette_pixels" << AsInt(m.silhouette_pixels)
        << "inner_pixels" << AsInt(m.inner_pixels) << "missed_inner" << AsInt(m.missed_inner)
        << "missed_uncoverable" << AsInt(m.missed_uncoverable) << "outer_pixels"
-       << AsInt(m.outer_pixels) << "covered_outer" << AsInt(m.covered_outer);
+       << AsInt(m.outer_pixels) << "covered_outer" << AsInt(m.covered_outer)
+       << "covered_outer_traded" << AsInt(m.covered_outer_traded);
     if (v < result.hull.views.size()) {
       fs << "hull_missed_inner" << AsInt(result.hull.views[v].missed_inner)
          << "hull_missed_uncoverable" << AsInt(result.hull.views[v].missed_uncoverable)
-         << "hull_covered_outer" << AsInt(result.hull.views[v].covered_outer);
+         << "hull_covered_outer" << AsInt(result.hull.views[v].covered_outer)
+         << "hull_covered_outer_traded" << AsInt(result.hull.views[v].covered_outer_traded);
     }
     fs << "}";
   }
