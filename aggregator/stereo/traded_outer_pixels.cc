@@ -61,7 +61,7 @@ size_t CountOuterCoveredForUncoverable(const TriangleMesh& model,
   if (cv::countNonZero(covered_outer) == 0) return 0;
   // Counts of covered outer pixels over any box, so triangles over none are skipped at once.
   cv::Mat sums;
-  cv::integral(covered_outer != 0, sums, CV_32S);
+  cv::integral((covered_outer != 0) / 255, sums, CV_32S);
   const int width = covered_outer.cols, height = covered_outer.rows;
   const CameraModel& camera = views[v].camera;
   const Eigen::Vector3d origin = camera.Center();
