@@ -37,16 +37,29 @@ cv::Mat FarFromOutline(const cv::Mat& inside) {
 
 }  // namespace
 
-cv::Mat RenderMeshSilhouette(const TriangleMesh& mesh, const CameraModel& camera) {
-  cv::Mat image = cv::Mat::zeros(camera.height, camera.width, CV_8UC1);
-  std::vector<Eigen::Vector2d> pixels(mesh.vertices.size());
-  std::vector<uint8_t> in_front(mesh.vertices.size(), 0);
+VertexPixels ProjectVertices(const TriangleMesh& mesh, const CameraModel& camera) {
+  VertexPixels out;
+  out.pixels.resize(mesh.vertices.size());
+  out.in_front.assign(mesh.vertices.size(), 0);
   for (size_t v = 0; v < mesh.vertices.size(); ++v) {
     const auto p = camera.Project(mesh.vertices[v].cast<double>());
     if (!p) continue;
-    pixels[v] = *p;
-    in_front[v] = 1;
+    out.pixels[v] = *p;
+    out.in_front[v] = 1;
   }
+  return out;
+}
+
+cv::Mat RenderMeshSilhouette(const TriangleMesh& mesh, const CameraModel& camera) {
+  return RenderMeshSilhouette(mesh, ProjectVertices(mesh, camera), camera.width, camera.height);
+}
+
+cv::Mat RenderMeshSilhouette(const TriangleMesh& mesh, const VertexPixels& projected, int width,
+                             int height) {
+  SILNET_CHECK(projected.pixels.size() == mesh.vertices.size() &&
+               projected.in_front.size() == mesh.vertices.size());
+  cv::Mat image = cv::Mat::zeros(height, width, CV_8UC1);
+  const auto& [pixels, in_front] = projected;
   for (const auto& t : mesh.triangles) {
     const auto a = static_cast<size_t>(t[0]), b = static_cast<size_t>(t[1]);
     const auto c = static_cast<size_t>(t[2]);

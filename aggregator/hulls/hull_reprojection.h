@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <opencv2/core/mat.hpp>
 #include <string>
 #include <vector>
@@ -66,9 +67,20 @@ void ForEachPixelInTriangle(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
   }
 }
 
+// A mesh's vertices in one camera's image: each vertex's pixel, and whether it lies in front
+// of the camera (its pixel is meaningless otherwise).
+struct VertexPixels {
+  std::vector<Eigen::Vector2d> pixels;
+  std::vector<uint8_t> in_front;
+};
+VertexPixels ProjectVertices(const TriangleMesh& mesh, const CameraModel& camera);
+
 // CV_8UC1 image of the camera's size, 255 where the mesh covers the pixel centre.
 // Triangles with a vertex behind the camera are skipped.
 cv::Mat RenderMeshSilhouette(const TriangleMesh& mesh, const CameraModel& camera);
+// The same from the vertices already projected into that camera (`width` x `height`).
+cv::Mat RenderMeshSilhouette(const TriangleMesh& mesh, const VertexPixels& projected, int width,
+                             int height);
 
 // Compares a rendered coverage image with a silhouette (both CV_8UC1, same size).
 ViewReprojection CompareWithSilhouette(const cv::Mat& rendered, const cv::Mat& silhouette);

@@ -334,7 +334,9 @@ std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(
   std::optional<UncoverableInnerPixels> uncoverable;
   for (size_t v = 0; v < views.size(); ++v) {
     const StereoView& view = views[v];
-    const cv::Mat rendered = RenderMeshSilhouette(model, view.camera);
+    const VertexPixels projected = ProjectVertices(model, view.camera);
+    const cv::Mat rendered =
+        RenderMeshSilhouette(model, projected, view.camera.width, view.camera.height);
     cv::Mat missed, covered_outer;
     SilhouetteConsistency c =
         CompareSilhouetteConsistency(rendered, view.mask, margin_px, &missed, &covered_outer);
@@ -347,7 +349,7 @@ std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(
         uncoverable.emplace(views, grown, inner);
       }
       c.covered_outer_traded =
-          CountOuterCoveredForUncoverable(model, views, v, covered_outer, *uncoverable);
+          CountOuterCoveredForUncoverable(model, projected, views, v, covered_outer, *uncoverable);
     }
     out.push_back(c);
   }

@@ -7,7 +7,6 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
-#include "aggregator/hulls/hull_reprojection.h"
 #include "shared/util/check.h"
 
 namespace silnet::aggregator {
@@ -52,7 +51,7 @@ bool UncoverableInnerPixels::operator()(size_t v, int x, int y) {
   return known == kUncoverable;
 }
 
-size_t CountOuterCoveredForUncoverable(const TriangleMesh& model,
+size_t CountOuterCoveredForUncoverable(const TriangleMesh& model, const VertexPixels& projected,
                                        const std::vector<StereoView>& views, size_t v,
                                        const cv::Mat& covered_outer,
                                        UncoverableInnerPixels& uncoverable) {
@@ -65,14 +64,9 @@ size_t CountOuterCoveredForUncoverable(const TriangleMesh& model,
   const int width = covered_outer.cols, height = covered_outer.rows;
   const CameraModel& camera = views[v].camera;
   const Eigen::Vector3d origin = camera.Center();
-  std::vector<Eigen::Vector2d> pixels(model.vertices.size());
-  std::vector<uint8_t> in_front(model.vertices.size(), 0);
-  for (size_t i = 0; i < model.vertices.size(); ++i) {
-    const auto p = camera.Project(model.vertices[i].cast<double>());
-    if (!p) continue;
-    pixels[i] = *p;
-    in_front[i] = 1;
-  }
+  SILNET_CHECK(projected.pixels.size() == model.vertices.size() &&
+               projected.in_front.size() == model.vertices.size());
+  const auto& [pixels, in_front] = projected;
 
   cv::Mat traded = cv::Mat::zeros(covered_outer.size(), CV_8UC1);
   size_t count = 0;

@@ -12,6 +12,7 @@
 #include <opencv2/core/mat.hpp>
 #include <vector>
 
+#include "aggregator/hulls/hull_reprojection.h"
 #include "aggregator/hulls/triangle_mesh.h"
 #include "aggregator/stereo/stereo_views.h"
 #include "aggregator/stereo/uncoverable_pixels.h"
@@ -41,7 +42,8 @@ class UncoverableInnerPixels {
 // onto an inner pixel that `uncoverable` says no consistent model covers. The point is where
 // the pixel centre's ray meets each triangle whose projection covers that centre (the
 // triangles RenderMeshSilhouette draws: those with every vertex in front of the camera).
-size_t CountOuterCoveredForUncoverable(const TriangleMesh& model,
+// `projected` holds the model's vertices in view v (ProjectVertices).
+size_t CountOuterCoveredForUncoverable(const TriangleMesh& model, const VertexPixels& projected,
                                        const std::vector<StereoView>& views, size_t v,
                                        const cv::Mat& covered_outer,
                                        UncoverableInnerPixels& uncoverable);
