@@ -96,16 +96,9 @@ struct IngestService::Impl {
     const bool late = record.session == t.status.session && t.any &&
                       record.frame_index < t.held.max() &&
                       !(record.flags & silnet_wire_FRAME_RESENT);
-    const bool without_contour =
-        (record.flags & (silnet_wire_FRAME_DROPPED | silnet_wire_FRAME_BAD_INPUT)) != 0;
     switch (store.Add(SessionRecordType::kHullFrame, record)) {
       case StoreResult::kDuplicate:
         ++t.status.duplicates;
-        // A dropped or unusable frame held already and scheduled for a contour when the
-        // node's contour rate arrived (ScheduleMissingContours does not know its flags):
-        // the node re-sends it as it was, and it has no contour to wait for.
-        if (without_contour && record.session == t.status.session)
-          t.contour_due.erase(record.frame_index);
         return;
       case StoreResult::kFailed:
         ++t.status.store_failures;
@@ -123,12 +116,10 @@ struct IngestService::Impl {
     t.any = true;
     const bool has_contour = t.contour_every > 0 &&
                              record.frame_index % static_cast<uint64_t>(t.contour_every) == 0 &&
-                             !without_contour;
+                             !HullHasNoContour(record);
     if (has_contour && !store.HasContour(record.camera_id, record.session, record.frame_index)) {
       t.contour_due.emplace(record.frame_index, Clock::now());
     }
-    // A frame re-sent as dropped or unusable has no contour to wait for.
-    if (without_contour) t.contour_due.erase(record.frame_index);
   }
 
   void ReportStoreFailure() {
@@ -185,14 +176,18 @@ struct IngestService::Impl {
   }
 
   // Once the node's contour rate is known (its CameraInfo may arrive after the first
-  // frames), every frame held that should have a contour and has none is waited for.
+  // frames), every frame held that should have a contour and has none is waited for; frames
+  // the node flagged dropped or unusable have none to wait for.
   void ScheduleMissingContours(Track& t) {
     if (t.contour_every <= 0 || !t.any) return;
     const auto every = static_cast<uint64_t>(t.contour_every);
     const auto now = Clock::now();
+    const FrameIndexSet without_contour =
+        store.HullFramesWithoutContour(t.status.camera_id, t.status.session);
     for (const FrameRange& range : t.held.ranges()) {
       for (uint64_t f = (range.first + every - 1) / every * every; f <= range.last; f += every) {
-        if (!store.HasContour(t.status.camera_id, t.status.session, f))
+        if (!without_contour.Contains(f) &&
+            !store.HasContour(t.status.camera_id, t.status.session, f))
           t.contour_due.emplace(f, now);
       }
     }

@@ -5,13 +5,23 @@
 #include <algorithm>
 
 #include "shared/util/check.h"
+#include "silnet.h"
 
 namespace silnet::aggregator {
 
+bool HullHasNoContour(const FrameRecord& hull) {
+  return (hull.flags & (silnet_wire_FRAME_DROPPED | silnet_wire_FRAME_BAD_INPUT)) != 0;
+}
+
 struct SessionStore::Camera {
   RecordLogWriter writer;
-  // Indices held per session, for hull frames and contours.
-  std::map<uint32_t, FrameIndexSet> hulls, contours;
+  // Indices held per session, for hull frames, contours, and hull frames without contour.
+  std::map<uint32_t, FrameIndexSet> hulls, contours, without_contour;
+
+  void IndexHull(uint32_t session, const FrameRecord& hull) {
+    hulls[session].Insert(hull.frame_index);
+    if (HullHasNoContour(hull)) without_contour[session].Insert(hull.frame_index);
+  }
 };
 
 SessionStore::SessionStore(std::filesystem::path dir) : dir_(std::move(dir)) {}
@@ -29,7 +39,7 @@ void SessionStore::Open() {
     Camera& camera = CameraFor(id);
     for (const SessionFrames& s : sessions) {
       for (const FrameRecord& r : s.hulls)
-        camera.hulls[s.session].Insert(r.frame_index);
+        camera.IndexHull(s.session, r);
       for (const FrameRecord& r : s.contours)
         camera.contours[s.session].Insert(r.frame_index);
     }
@@ -64,7 +74,11 @@ StoreResult SessionStore::Add(SessionRecordType type, const FrameRecord& record)
     last_error_ = status.message();
     return StoreResult::kFailed;
   }
-  held.Insert(record.frame_index);
+  if (type == SessionRecordType::kContour) {
+    held.Insert(record.frame_index);
+  } else {
+    camera.IndexHull(record.session, record);
+  }
   return StoreResult::kStored;
 }
 
@@ -86,6 +100,15 @@ FrameIndexSet SessionStore::HullFrames(const std::string& camera_id, uint32_t se
   if (it == cameras_.end()) return {};
   auto s = it->second->hulls.find(session);
   return s == it->second->hulls.end() ? FrameIndexSet{} : s->second;
+}
+
+FrameIndexSet SessionStore::HullFramesWithoutContour(const std::string& camera_id,
+                                                     uint32_t session) const {
+  std::lock_guard lock(mutex_);
+  auto it = cameras_.find(camera_id);
+  if (it == cameras_.end()) return {};
+  auto s = it->second->without_contour.find(session);
+  return s == it->second->without_contour.end() ? FrameIndexSet{} : s->second;
 }
 
 bool SessionStore::HasContour(const std::string& camera_id, uint32_t session,

@@ -22,6 +22,9 @@ namespace silnet::aggregator {
 // What happened to one sample offered to the store.
 enum class StoreResult { kStored, kDuplicate, kFailed };
 
+// True for a hull frame the node flagged dropped or unusable: no contour follows it.
+bool HullHasNoContour(const FrameRecord& hull);
+
 // Per camera session logs with duplicate detection.
 class SessionStore {
  public:
@@ -39,6 +42,9 @@ class SessionStore {
   StoreResult AddCameraInfo(const CameraInfoRecord& info);
   // The hull frame indices held for a camera's session (empty set if none).
   FrameIndexSet HullFrames(const std::string& camera_id, uint32_t session) const;
+  // The hull frames held for a camera's session that the node flagged dropped or unusable:
+  // no contour follows them (empty set if none).
+  FrameIndexSet HullFramesWithoutContour(const std::string& camera_id, uint32_t session) const;
   // True if the store holds the contour of that frame.
   bool HasContour(const std::string& camera_id, uint32_t session, uint64_t frame_index) const;
   // True if the store holds any contour of that session.
