@@ -153,7 +153,15 @@ PairCandidate ReadCandidate(const cv::FileNode& node, const std::filesystem::pat
     throw InputError(path.string() + ": pair " + pair + " has a negative count");
   c.inliers = static_cast<size_t>(inliers);
   c.support = static_cast<size_t>(agreeing);
-  if (!csv.empty() && c.inliers > 0) c.inlier_matches = ReadMatchesCsv(csv, path);
+  if (!csv.empty() && c.inliers > 0) {
+    c.inlier_matches = ReadMatchesCsv(csv, path);
+    // A file cut short or taken from another run would silently change the network's input.
+    if (c.inlier_matches.size() != c.inliers) {
+      throw InputError(fmt::format("{}: {} correspondences where {} gives pair {} {} inliers",
+                                   csv.string(), c.inlier_matches.size(), path.string(), pair,
+                                   c.inliers));
+    }
+  }
   return c;
 }
 

@@ -163,6 +163,12 @@ TEST(InputFileMutations, PairsYamlAndItsMatches) {
       << "frame_i,frame_j,x_i,y_i,x_j,y_j\n-1,11,1.5,2,3,4\n";
   EXPECT_THAT([&] { ReadPairsYaml(dir / "pairs.yaml", dir / "matches"); },
               ::testing::ThrowsMessage<InputError>(::testing::HasSubstr("cam_a-cam_b.csv: row 2")));
+  // Whole rows, but fewer than the pair's inliers: a file cut short.
+  std::ofstream(dir / "matches" / "cam_a-cam_b.csv")
+      << "frame_i,frame_j,x_i,y_i,x_j,y_j\n10,11,1.5,2,3,4\n11,12,1,2,3,4\n";
+  EXPECT_THAT([&] { ReadPairsYaml(dir / "pairs.yaml", dir / "matches"); },
+              ::testing::ThrowsMessage<InputError>(
+                  ::testing::HasSubstr("cam_a-cam_b.csv: 2 correspondences where")));
 }
 
 TEST(InputFileMutations, UtrechtCameraConfig) {
