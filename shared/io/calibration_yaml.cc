@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstdint>
 #include <opencv2/core/eigen.hpp>
+#include <optional>
 
+#include "shared/geometry/nearest_rotation.h"
 #include "shared/io/replace_yaml.h"
 #include "shared/io/yaml_guard.h"
 #include "shared/util/check.h"
@@ -130,10 +132,13 @@ std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::str
       throw InputError(where +
                        ": K must be upper triangular with positive focal lengths and K(2,2) = 1");
     }
-    if ((c.R * c.R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 ||
-        c.R.determinant() < 0) {
-      throw InputError(where + ": R is not a rotation matrix");
+    // Rotations printed to four decimals or more are taken as the rotation nearest to them.
+    const std::optional<Eigen::Matrix3d> rotation = NearestRotation(c.R, 1e-4);
+    if (!rotation) {
+      throw InputError(where +
+                       ": R is not a rotation matrix (not within 1e-4 of one in every element)");
     }
+    c.R = *rotation;
     if (!(c.fps > 0) || !std::isfinite(c.fps)) throw InputError(where + ": fps must be positive");
     if (!std::isfinite(c.time_offset)) throw InputError(where + ": time_offset must be finite");
     for (const CameraModel& earlier : out) {

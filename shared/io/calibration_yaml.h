@@ -26,7 +26,8 @@ std::vector<double> ReadYamlMatrixEntries(const cv::FileNode& node, const char* 
 void WriteCameras(cv::FileStorage& storage, const std::vector<CameraModel>& cameras);
 
 // Reads a `cameras` sequence. Throws InputError naming `source` and the camera on a
-// missing field, a matrix of the wrong size, a non-rotation R or a non-positive focal length.
+// missing field, a matrix of the wrong size, an R not within 1e-4 of a rotation in every
+// element (one within is replaced by that nearest rotation) or a non-positive focal length.
 std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::string& source);
 
 // Writes calibration.yaml (format version 1) with the given cameras, replacing an older one at

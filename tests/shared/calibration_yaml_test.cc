@@ -180,6 +180,30 @@ TEST(CalibrationYaml, RejectsANonRotation) {
   cameras[1].R(0, 0) += 0.1;
   SaveCalibration(dir / "c.yaml", cameras);
   ExpectRejected(dir / "c.yaml", "not a rotation");
+  cameras = TwoCameras();
+  cameras[1].R = -cameras[1].R;
+  SaveCalibration(dir / "c.yaml", cameras);
+  ExpectRejected(dir / "c.yaml", "not a rotation");
+}
+
+// A calibration written by another tool with its rotations to four decimals is read, each R
+// the rotation nearest to what was written (the reader used to refuse anything not
+// orthonormal to 1e-6).
+TEST(CalibrationYaml, TakesRotationsPrintedToFourDecimals) {
+  testing::TempDir dir;
+  auto cameras = TwoCameras();
+  const auto truth = cameras;
+  for (CameraModel& c : cameras)
+    c.R = (c.R * 1e4).array().round() / 1e4;
+  ASSERT_GT((cameras[1].R * cameras[1].R.transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-6);
+  SaveCalibration(dir / "c.yaml", cameras);
+  const auto loaded = LoadCalibration(dir / "c.yaml");
+  ASSERT_EQ(loaded.size(), 2u);
+  for (size_t i = 0; i < loaded.size(); ++i) {
+    EXPECT_LT((loaded[i].R * loaded[i].R.transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+    EXPECT_NEAR(loaded[i].R.determinant(), 1.0, 1e-12);
+    EXPECT_LT((loaded[i].R - truth[i].R).cwiseAbs().maxCoeff(), 1e-4);
+  }
 }
 
 TEST(CalibrationYaml, CamerasAtAFrameApplyTheMovesUpToIt) {
