@@ -210,9 +210,12 @@ TEST(NodeStream, ALateSubscriberGetsTheFramesItMissedReSent) {
   testing::ChildProcess node(
       kNode,
       {"--camera-id", "cam00", "--source", "sim:" + (Dataset() / "cam00").string(), "--speed", "2",
-       "--linger", "10", "--dds-history", "10"},
+       "--linger", "10", "--dds-history", "10", "--record", (work / "node-recording").string()},
       work.path());
-  std::this_thread::sleep_for(seconds(3));
+  // The subscriber starts once the node has published 150 frames, not after a time: on a busy
+  // machine the node may take seconds to start (after a 3 s sleep it had re-sent only 95).
+  ASSERT_GE(WaitForHulls(SessionLogPath(work / "node-recording", "cam00"), 150, seconds(60)), 150u)
+      << node.Stderr();
   testing::ChildProcess aggregator(
       kAggregator, {"ingest", "-o", (work / "agg").string(), "--idle-exit", "3"}, work.path());
   ASSERT_EQ(aggregator.Wait(seconds(120)), std::optional<int>(0)) << aggregator.Stderr();
