@@ -282,7 +282,7 @@ RealCapture LoadTsinghuaWd2(const std::filesystem::path& folder, bool use_distor
       throw InputError(fmt::format("{}: camera block {} is malformed", calib.string(), index));
     // The file prints rotations to six decimals: the nearest rotation, and a camera matrix
     // with a positive focal length once scaled to a last element of 1.
-    const std::optional<Eigen::Matrix3d> rotation = NearestRotation(r, 1e-4);
+    const std::optional<Eigen::Matrix3d> rotation = NearestRotation(r, kPrintedRotationTolerance);
     const Eigen::Matrix3d scaled = k / k(2, 2);
     if (!rotation || !scaled.allFinite() || !(scaled(0, 0) > 0.0 && scaled(1, 1) > 0.0) ||
         !std::isfinite(d1) || !std::isfinite(d2)) {

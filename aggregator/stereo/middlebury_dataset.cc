@@ -213,7 +213,7 @@ StereoViews LoadMiddlebury(const fs::path& folder,
     if (!in) throw InputError(fmt::format("{}: view {} is malformed", par.string(), v + 1));
     // The dino's rotations are orthonormal to about 1.5e-6 only: replaced by the nearest
     // rotation (a change of under 0.01 px in the image).
-    const std::optional<Eigen::Matrix3d> rotation = NearestRotation(r, 1e-4);
+    const std::optional<Eigen::Matrix3d> rotation = NearestRotation(r, kPrintedRotationTolerance);
     if (!(k(0, 0) > 0 && k(1, 1) > 0) || !rotation)
       throw InputError(fmt::format("{}: {} has no valid K or R", par.string(), name));
     StereoView view;

@@ -1,5 +1,7 @@
 #include "shared/io/calibration_yaml.h"
 
+#include <fmt/format.h>
+
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -133,10 +135,11 @@ std::vector<CameraModel> ReadCameras(const cv::FileNode& cameras, const std::str
                        ": K must be upper triangular with positive focal lengths and K(2,2) = 1");
     }
     // Rotations printed to four decimals or more are taken as the rotation nearest to them.
-    const std::optional<Eigen::Matrix3d> rotation = NearestRotation(c.R, 1e-4);
+    const std::optional<Eigen::Matrix3d> rotation = NearestRotation(c.R, kPrintedRotationTolerance);
     if (!rotation) {
-      throw InputError(where +
-                       ": R is not a rotation matrix (not within 1e-4 of one in every element)");
+      throw InputError(
+          fmt::format("{}: R is not a rotation matrix (not within {} of one in every element)",
+                      where, kPrintedRotationTolerance));
     }
     c.R = *rotation;
     if (!(c.fps > 0) || !std::isfinite(c.fps)) throw InputError(where + ": fps must be positive");
