@@ -275,12 +275,15 @@ cv::Mat InnerSilhouettePixels(const cv::Mat& mask, double margin_px) {
   return depth_in >= margin_px + 0.5;
 }
 
-SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, const cv::Mat& mask,
-                                                   double margin_px, cv::Mat* missed_inner,
-                                                   cv::Mat* covered_outer) {
+namespace {
+
+// CompareSilhouetteConsistency with the mask's inner pixels (InnerSilhouettePixels at
+// `margin_px`) already computed.
+SilhouetteConsistency CompareWithInnerPixels(const cv::Mat& rendered, const cv::Mat& mask,
+                                             const cv::Mat& inner, double margin_px,
+                                             cv::Mat* missed_inner, cv::Mat* covered_outer) {
   SILNET_CHECK(rendered.type() == CV_8UC1 && mask.type() == CV_8UC1);
-  SILNET_CHECK(rendered.size() == mask.size());
-  const cv::Mat inner = InnerSilhouettePixels(mask, margin_px);
+  SILNET_CHECK(rendered.size() == mask.size() && inner.size() == mask.size());
   if (missed_inner) *missed_inner = inner & (rendered == 0);
   cv::Mat depth_out;
   cv::distanceTransform(mask == 0, depth_out, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
@@ -313,6 +316,16 @@ SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, cons
   return result;
 }
 
+}  // namespace
+
+SilhouetteConsistency CompareSilhouetteConsistency(const cv::Mat& rendered, const cv::Mat& mask,
+                                                   double margin_px, cv::Mat* missed_inner,
+                                                   cv::Mat* covered_outer) {
+  SILNET_CHECK(mask.type() == CV_8UC1);
+  return CompareWithInnerPixels(rendered, mask, InnerSilhouettePixels(mask, margin_px), margin_px,
+                                missed_inner, covered_outer);
+}
+
 double MissedInnerShare(const TriangleMesh& surface, const std::vector<CameraModel>& cameras,
                         const std::vector<cv::Mat>& masks, double margin_px) {
   SILNET_CHECK(cameras.size() == masks.size());
@@ -331,6 +344,8 @@ std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(
   std::vector<SilhouetteConsistency> out;
   const GrownSilhouettes grown = GrowSilhouettes(views, margin_px);
   std::vector<cv::Mat> inner;
+  for (const StereoView& view : views)
+    inner.push_back(InnerSilhouettePixels(view.mask, margin_px));
   std::optional<UncoverableInnerPixels> uncoverable;
   for (size_t v = 0; v < views.size(); ++v) {
     const StereoView& view = views[v];
@@ -339,15 +354,11 @@ std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(
         RenderMeshSilhouette(model, projected, view.camera.width, view.camera.height);
     cv::Mat missed, covered_outer;
     SilhouetteConsistency c =
-        CompareSilhouetteConsistency(rendered, view.mask, margin_px, &missed, &covered_outer);
+        CompareWithInnerPixels(rendered, view.mask, inner[v], margin_px, &missed, &covered_outer);
     c.camera_id = view.camera.id;
     if (c.missed_inner > 0) c.missed_uncoverable = CountUncoverable(views, grown, v, missed);
     if (c.covered_outer > 0) {
-      if (!uncoverable) {
-        for (const StereoView& other : views)
-          inner.push_back(InnerSilhouettePixels(other.mask, margin_px));
-        uncoverable.emplace(views, grown, inner);
-      }
+      if (!uncoverable) uncoverable.emplace(views, grown, inner);
       c.covered_outer_traded =
           CountOuterCoveredForUncoverable(model, projected, views, v, covered_outer, *uncoverable);
     }
