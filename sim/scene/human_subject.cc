@@ -6,6 +6,7 @@
 #include <random>
 
 #include "sim/scene/body_frames.h"
+#include "sim/scene/body_parts.h"
 
 namespace silnet::sim {
 namespace {
@@ -13,26 +14,6 @@ namespace {
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
 constexpr double kPi = std::numbers::pi;
-
-enum Part {
-  kHead,
-  kHair,
-  kNeck,
-  kChest,
-  kPelvis,
-  kLeftUpperArm,
-  kLeftForearm,
-  kLeftHand,
-  kRightUpperArm,
-  kRightForearm,
-  kRightHand,
-  kLeftThigh,
-  kLeftShin,
-  kLeftFoot,
-  kRightThigh,
-  kRightShin,
-  kRightFoot,
-};
 
 double SmoothStep(double edge0, double edge1, double x) {
   const double t = std::clamp((x - edge0) / (edge1 - edge0), 0.0, 1.0);

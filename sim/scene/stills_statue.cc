@@ -3,33 +3,13 @@
 #include <random>
 
 #include "sim/scene/body_frames.h"
+#include "sim/scene/body_parts.h"
 
 namespace silnet::sim {
 namespace {
 
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
-
-enum Part {
-  kHead,
-  kHair,
-  kNeck,
-  kChest,
-  kPelvis,
-  kLeftUpperArm,
-  kLeftForearm,
-  kLeftHand,
-  kRightUpperArm,
-  kRightForearm,
-  kRightHand,
-  kLeftThigh,
-  kLeftShin,
-  kLeftFoot,
-  kRightThigh,
-  kRightShin,
-  kRightFoot,
-  kStaff,
-};
 
 }  // namespace
 
