@@ -220,10 +220,12 @@ std::string StillsSection(const LiveJobResult& r) {
   const StereoJobResult& m = *s.stereo;
   html += fmt::format(
       "<p>Stereo model of {} views: {} triangles, {}closed and manifold; silhouette pixels "
-      "&ge; 1 px inside missed {}, outside covered {}; {:.1f} s. Its report, with the model in "
-      "3D: <a href=\"stills/stereo/report.html\">stills/stereo/report.html</a>.</p>\n",
+      "&ge; 1 px inside missed {} ({} no model consistent with the other views covers), "
+      "outside covered {} ({} traded for those of other views); {:.1f} s. Its report, with the "
+      "model in 3D: <a href=\"stills/stereo/report.html\">stills/stereo/report.html</a>.</p>\n",
       m.views, m.model.triangles, m.model.closed_manifold ? "" : "not ", m.model.MissedInner(),
-      m.model.CoveredOuter(), m.seconds.total);
+      m.model.MissedUncoverable(), m.model.CoveredOuter(), m.model.CoveredOuterTraded(),
+      m.seconds.total);
   if (m.model.evaluation && m.hull.evaluation) {
     html += fmt::format("<p>Against the true surface: model {}; visual hull {}.</p>\n",
                         EscapeHtml(m.model.evaluation->Brief()),

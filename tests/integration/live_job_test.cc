@@ -222,6 +222,15 @@ TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsStillsModelAndReport) {
   EXPECT_LE(accuracy, 1.5);
   EXPECT_GE(within_2fp, 0.97);
   EXPECT_NE(live.Stdout().find("stills       8 of 8 cameras"), std::string::npos) << live.Stdout();
+  // The report tells the missed silhouette pixels no consistent model covers apart, as the
+  // stereo job counted them.
+  std::ifstream report(out / "report.html");
+  const std::string page((std::istreambuf_iterator<char>(report)), {});
+  const cv::FileNode model = stereo["model"];
+  EXPECT_NE(page.find(fmt::format("inside missed {} ({} no model consistent with the other views",
+                                  static_cast<int>(model["missed_inner_pixels"]),
+                                  static_cast<int>(model["missed_uncoverable_pixels"]))),
+            std::string::npos);
 }
 
 // Waits up to `timeout` for `done()`; returns whether it happened.
