@@ -99,6 +99,10 @@ bool ModelEvaluationOptions::IsValid(std::string* reason) const {
     *reason = "the model sampling spacing must be positive";
     return false;
   }
+  if (threads < 0) {
+    *reason = "threads must be >= 0";
+    return false;
+  }
   if (!(accuracy_fraction > 0 && accuracy_fraction <= 1)) {
     *reason = "the accuracy fraction must be in (0, 1]";
     return false;
@@ -243,7 +247,7 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
   };
   if (sample.points.empty() || truth_points.empty()) return finish();
 
-  const NearestPoint truth_tree(truth_points);
+  const NearestPoint truth_tree(truth_points, options.threads);
   result.truth_spacing =
       options.truth_spacing > 0 ? options.truth_spacing : EstimateSpacing(truth_points, truth_tree);
   measured.sample_to_truth = SurfaceDistances(sample.points, truth_points, truth_normals,
@@ -256,7 +260,7 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
     sum += d;
   result.mean_distance_m = sum / static_cast<double>(to_truth.size());
 
-  const NearestPoint model_tree(sample.points);
+  const NearestPoint model_tree(sample.points, options.threads);
   measured.truth_to_model = SurfaceDistances(truth_points, sample.points, sample.normals,
                                              model_tree, result.sample_spacing, options.neighbours);
   for (Completeness& c : result.completeness)

@@ -46,6 +46,7 @@ struct ModelEvaluationOptions {
   int neighbours = 4;             // tangent planes tried per distance
   size_t max_samples = 20000000;  // cap on model samples (spacing grows beyond it)
   uint64_t random_seed = 1;       // model sampling
+  int threads = 0;                // nearest-point queries' threads, 0 = all cores
 
   // True if the options make sense; otherwise false with a reason.
   bool IsValid(std::string* reason) const;

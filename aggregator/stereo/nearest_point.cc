@@ -2,41 +2,54 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
-#include <opencv2/flann.hpp>
+#include <nanoflann.hpp>
 
 #include "shared/util/check.h"
+#include "shared/util/parallel_for.h"
 
 namespace silnet::aggregator {
-
-struct NearestPoint::Index {
-  cv::Mat points;
-  std::unique_ptr<cv::flann::Index> tree;
-};
-
 namespace {
 
-cv::Mat ToMat(const std::vector<Eigen::Vector3d>& points) {
-  cv::Mat mat(static_cast<int>(points.size()), 3, CV_32F);
-  for (size_t i = 0; i < points.size(); ++i)
-    for (int a = 0; a < 3; ++a)
-      mat.at<float>(static_cast<int>(i), a) = static_cast<float>(points[i][a]);
-  return mat;
-}
+// Queries answered per task: enough to make a task's overhead negligible.
+constexpr size_t kQueriesPerTask = 8192;
+
+// The indexed points as nanoflann reads them.
+struct PointCloud {
+  std::vector<Eigen::Vector3f> points;
+
+  size_t kdtree_get_point_count() const { return points.size(); }
+  float kdtree_get_pt(size_t index, size_t axis) const {
+    return points[index][static_cast<Eigen::Index>(axis)];
+  }
+  template <class Box>
+  bool kdtree_get_bbox(Box& /*box*/) const {
+    return false;  // nanoflann computes the bounding box itself
+  }
+};
+
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PointCloud>,
+                                                   PointCloud, 3, uint32_t>;
 
 }  // namespace
 
-NearestPoint::NearestPoint(const std::vector<Eigen::Vector3d>& points)
-    : index_(std::make_unique<Index>()), size_(points.size()) {
+struct NearestPoint::Index {
+  PointCloud cloud;
+  std::unique_ptr<KdTree> tree;
+};
+
+NearestPoint::NearestPoint(const std::vector<Eigen::Vector3d>& points, int threads)
+    : index_(std::make_unique<Index>()), size_(points.size()), threads_(threads) {
+  SILNET_CHECK(threads >= 0);
+  SILNET_CHECK(points.size() < std::numeric_limits<uint32_t>::max());
   if (points.empty()) return;
-  index_->points = ToMat(points);
-  // One deterministic k-d tree (no randomised split dimensions): the same answers every run.
-  cv::flann::IndexParams params;
-  params.setAlgorithm(cvflann::FLANN_INDEX_KDTREE_SINGLE);
-  params.setInt("leaf_max_size", 10);
-  params.setBool("reorder", true);
-  params.setInt("dim", -1);
-  index_->tree = std::make_unique<cv::flann::Index>(index_->points, params);
+  index_->cloud.points.reserve(points.size());
+  for (const Eigen::Vector3d& p : points)
+    index_->cloud.points.push_back(p.cast<float>());
+  // Built once, deterministically (no randomised splits): the same answers every run.
+  index_->tree =
+      std::make_unique<KdTree>(3, index_->cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
 }
 
 NearestPoint::~NearestPoint() = default;
@@ -55,17 +68,23 @@ void NearestPoint::KNearest(const std::vector<Eigen::Vector3d>& queries, int k,
   indices->assign(n * kk, -1);
   distances->assign(n * kk, std::numeric_limits<double>::infinity());
   if (queries.empty() || size_ == 0) return;
-  const int found = static_cast<int>(std::min(kk, size_));
-  cv::Mat nearest, squared;
-  index_->tree->knnSearch(ToMat(queries), nearest, squared, found, cv::flann::SearchParams(-1));
-  for (size_t i = 0; i < n; ++i) {
-    for (int j = 0; j < found; ++j) {
-      const int row = static_cast<int>(i);
-      (*indices)[i * kk + static_cast<size_t>(j)] = nearest.at<int>(row, j);
-      (*distances)[i * kk + static_cast<size_t>(j)] =
-          std::sqrt(static_cast<double>(squared.at<float>(row, j)));
+  // Searching reads the tree only (each query's result set is its own), so tasks share it.
+  const size_t tasks = (n + kQueriesPerTask - 1) / kQueriesPerTask;
+  ParallelFor(tasks, threads_, [&](size_t task) {
+    std::vector<uint32_t> found(kk);
+    std::vector<float> squared(kk);
+    const size_t last = std::min(n, (task + 1) * kQueriesPerTask);
+    for (size_t q = task * kQueriesPerTask; q < last; ++q) {
+      const Eigen::Vector3f query = queries[q].cast<float>();
+      nanoflann::KNNResultSet<float, uint32_t> result(kk);
+      result.init(found.data(), squared.data());
+      index_->tree->findNeighbors(result, query.data(), nanoflann::SearchParams());
+      for (size_t j = 0; j < result.size(); ++j) {
+        (*indices)[q * kk + j] = static_cast<int>(found[j]);
+        (*distances)[q * kk + j] = std::sqrt(static_cast<double>(squared[j]));
+      }
     }
-  }
+  });
 }
 
 }  // namespace silnet::aggregator

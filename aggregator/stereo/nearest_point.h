@@ -1,6 +1,6 @@
 #pragma once
-// Exact nearest points of a fixed 3D point set, by a k-d tree (OpenCV flann's single
-// deterministic tree, unlimited checks: exact search, the same answers every run). For
+// Exact nearest points of a fixed 3D point set, by a k-d tree (nanoflann's single
+// deterministic tree, exact search: the same answers every run and on any thread count). For
 // surface distances: the Middlebury measures (model_evaluation.h) and the checks of vote
 // lattices against a true surface.
 
@@ -11,12 +11,13 @@
 
 namespace silnet::aggregator {
 
-// A k-d tree over a point set (metres), queried from one thread at a time.
+// A k-d tree over a point set (metres). A query of many points is answered on `threads`
+// threads (0 = all cores), the same answers as on one.
 class NearestPoint {
  public:
   // Indexes `points` (copied, stored as float). An empty set answers every query with
   // infinity and index -1.
-  explicit NearestPoint(const std::vector<Eigen::Vector3d>& points);
+  explicit NearestPoint(const std::vector<Eigen::Vector3d>& points, int threads = 0);
   ~NearestPoint();
   NearestPoint(const NearestPoint&) = delete;
   NearestPoint& operator=(const NearestPoint&) = delete;
@@ -37,6 +38,7 @@ class NearestPoint {
   struct Index;
   std::unique_ptr<Index> index_;
   size_t size_ = 0;
+  int threads_ = 0;
 };
 
 }  // namespace silnet::aggregator

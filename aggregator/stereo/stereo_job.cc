@@ -414,9 +414,9 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
     result.cut.views = MeasureSilhouetteConsistency(cut_surface, views.views);
   if (progress) progress->Advance();
   if (truth && result.footprint > 0) {
-    StereoTruthEvaluation measured =
-        EvaluateAgainstTruth(hull.mesh, model_surface, *truth, result.footprint, views.views,
-                             cut_surface.triangles.empty() ? nullptr : &cut_surface);
+    StereoTruthEvaluation measured = EvaluateAgainstTruth(
+        hull.mesh, model_surface, *truth, result.footprint, views.views,
+        cut_surface.triangles.empty() ? nullptr : &cut_surface, config.threads);
     result.hull.evaluation = std::move(measured.hull);
     result.model.evaluation = std::move(measured.model);
     result.cut.evaluation = std::move(measured.cut);

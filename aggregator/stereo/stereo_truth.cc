@@ -56,18 +56,20 @@ std::optional<StereoTruth> LoadStereoTruth(const std::filesystem::path& dir) {
   return truth;
 }
 
-ModelEvaluationOptions StereoEvaluationOptions(const StereoTruth& truth, double footprint) {
+ModelEvaluationOptions StereoEvaluationOptions(const StereoTruth& truth, double footprint,
+                                               int threads) {
   ModelEvaluationOptions options;
   options.footprint = footprint;
   options.truth_spacing = truth.spacing;
+  options.threads = threads;
   return options;
 }
 
 StereoTruthEvaluation EvaluateAgainstTruth(const TriangleMesh& hull, const TriangleMesh& model,
                                            const StereoTruth& truth, double footprint,
                                            const std::vector<StereoView>& views,
-                                           const TriangleMesh* cut) {
-  const ModelEvaluationOptions options = StereoEvaluationOptions(truth, footprint);
+                                           const TriangleMesh* cut, int threads) {
+  const ModelEvaluationOptions options = StereoEvaluationOptions(truth, footprint, threads);
   StereoTruthEvaluation result;
   ModelDistances to_hull;
   result.hull = EvaluateModel(hull, truth.points, truth.normals, options, {}, &to_hull);

@@ -33,13 +33,14 @@ struct StereoTruth {
 // but cannot be read.
 std::optional<StereoTruth> LoadStereoTruth(const std::filesystem::path& dir);
 
-// The evaluation settings for `truth` at `footprint` metres.
-ModelEvaluationOptions StereoEvaluationOptions(const StereoTruth& truth, double footprint);
+// The evaluation settings for `truth` at `footprint` metres, on `threads` threads (0 = all).
+ModelEvaluationOptions StereoEvaluationOptions(const StereoTruth& truth, double footprint,
+                                               int threads = 0);
 
 // Accuracy and completeness against the truth of the visual hull and of the model cut from
 // it, each over the whole true surface and over its concave and T-junction regions. The
 // concave region comes from the hull's own distances, so the hull is measured once.
-// `cut`, when given, is measured as the model is.
+// `cut`, when given, is measured as the model is. Runs on `threads` threads (0 = all).
 struct StereoTruthEvaluation {
   ModelEvaluation hull, model;
   std::optional<ModelEvaluation> cut;
@@ -47,6 +48,6 @@ struct StereoTruthEvaluation {
 StereoTruthEvaluation EvaluateAgainstTruth(const TriangleMesh& hull, const TriangleMesh& model,
                                            const StereoTruth& truth, double footprint,
                                            const std::vector<StereoView>& views,
-                                           const TriangleMesh* cut = nullptr);
+                                           const TriangleMesh* cut = nullptr, int threads = 0);
 
 }  // namespace silnet::aggregator
