@@ -71,6 +71,34 @@ TEST(NearestPointTest, FindsTheNearestPointsInOrder) {
   EXPECT_TRUE(std::isinf(NearestPoint({}).Distances({{0, 0, 0}})[0]));
 }
 
+TEST(NearestPointTest, ManyQueriesOnTwoThreadsGiveTheExactNearestPointsOfOne) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  std::vector<Eigen::Vector3d> points(5000), queries(20000);  // queries: several tasks
+  for (auto* set : {&points, &queries}) {
+    for (Eigen::Vector3d& p : *set)
+      p = {uniform(rng), uniform(rng), uniform(rng)};
+  }
+  std::vector<int> one_indices, two_indices;
+  std::vector<double> one_distances, two_distances;
+  NearestPoint(points, 1).KNearest(queries, 3, &one_indices, &one_distances);
+  NearestPoint(points, 2).KNearest(queries, 3, &two_indices, &two_distances);
+  EXPECT_EQ(one_indices, two_indices);
+  EXPECT_EQ(one_distances, two_distances);
+  // Against brute force on every 97th query: the same nearest point, its distance in float.
+  for (size_t q = 0; q < queries.size(); q += 97) {
+    size_t best = 0;
+    for (size_t i = 1; i < points.size(); ++i) {
+      if ((points[i] - queries[q]).squaredNorm() < (points[best] - queries[q]).squaredNorm())
+        best = i;
+    }
+    EXPECT_EQ(two_indices[3 * q], static_cast<int>(best)) << q;
+    EXPECT_NEAR(two_distances[3 * q], (points[best] - queries[q]).norm(), 1e-6) << q;
+    EXPECT_LE(two_distances[3 * q], two_distances[3 * q + 1]);
+    EXPECT_LE(two_distances[3 * q + 1], two_distances[3 * q + 2]);
+  }
+}
+
 TEST(ModelEvaluationTest, SphereAgainstItselfAndALargerSphere) {
   const double radius = 0.1, footprint = 0.005;
   const TriangleMesh sphere = Icosphere(kCentre, radius, 5);
