@@ -14,6 +14,7 @@
 
 #include "shared/io/session_log_reader.h"
 #include "tests/support/child_process.h"
+#include "tests/support/eventually.h"
 #include "tests/support/temp_dir.h"
 
 namespace silnet {
@@ -21,6 +22,7 @@ namespace {
 
 using std::chrono::milliseconds;
 using std::chrono::seconds;
+using testing::Eventually;
 
 const std::filesystem::path kBin = SILNET_BINARY_DIR;
 const std::filesystem::path kSim = kBin / "sim/silnet-sim";
@@ -79,10 +81,7 @@ TEST(IngestFaults, AStalledNodeIsReportedAndLosesNothing) {
   std::this_thread::sleep_for(milliseconds(500));
   auto node = StartNode(work, "1");
   // Stopped once its stream runs (on a loaded machine the node may take seconds to start).
-  const auto deadline = std::chrono::steady_clock::now() + seconds(30);
-  while (FramesHeld(work / "agg/ingest_summary.yaml") <= 10.0 &&
-         std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(milliseconds(200));
+  Eventually([&] { return FramesHeld(work / "agg/ingest_summary.yaml") > 10.0; }, seconds(30));
   node->Signal(SIGSTOP);
   // The status file written while ingest runs shows the node silent (no NodeStatus for 3 s)
   // and its stream stalled (no frame for 1.5 s); the file is written every second and polled,
@@ -92,11 +91,12 @@ TEST(IngestFaults, AStalledNodeIsReportedAndLosesNothing) {
     const cv::FileNode c = status["cameras"][0];
     return static_cast<int>(c["stalled"]) == 1 && static_cast<int>(c["node_alive"]) == 0;
   };
-  const auto silent_by = std::chrono::steady_clock::now() + seconds(30);
-  do {
-    std::this_thread::sleep_for(milliseconds(500));
-    status.open((work / "agg/ingest_summary.yaml").string(), cv::FileStorage::READ);
-  } while (!(status.isOpened() && silent()) && std::chrono::steady_clock::now() < silent_by);
+  Eventually(
+      [&] {
+        status.open((work / "agg/ingest_summary.yaml").string(), cv::FileStorage::READ);
+        return status.isOpened() && silent();
+      },
+      seconds(30), milliseconds(500));
   ASSERT_TRUE(status.isOpened());
   const cv::FileNode camera = status["cameras"][0];
   EXPECT_EQ(static_cast<std::string>(camera["id"]), "cam00");
@@ -129,10 +129,9 @@ TEST(IngestFaults, AStoreThatCannotWriteReportsItAndCatchesUpWhenItCan) {
   auto node = StartNode(work, "2");
   // The limit is lifted once the store has failed, not after a time: on a loaded machine the
   // node may take seconds to start.
-  const auto deadline = std::chrono::steady_clock::now() + seconds(60);
-  while (aggregator.Stderr().find("session store cannot write") == std::string::npos &&
-         std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(milliseconds(100));
+  Eventually(
+      [&] { return aggregator.Stderr().find("session store cannot write") != std::string::npos; },
+      seconds(60), milliseconds(100));
   const rlimit open{RLIM_INFINITY, RLIM_INFINITY};
   ASSERT_EQ(prlimit(aggregator.pid(), RLIMIT_FSIZE, &open, nullptr), 0);
   ASSERT_EQ(node->Wait(seconds(60)), std::optional<int>(0)) << node->Stderr();

@@ -25,12 +25,14 @@
 
 #include "shared/dds/topics.h"
 #include "tests/support/child_process.h"
+#include "tests/support/eventually.h"
 #include "tests/support/temp_dir.h"
 
 namespace silnet {
 namespace {
 
 using std::chrono::seconds;
+using testing::Eventually;
 
 const std::filesystem::path kBin = SILNET_BINARY_DIR;
 
@@ -231,16 +233,6 @@ TEST(LiveJob, SimulatedNodesToCalibratedNetworkHullsStillsModelAndReport) {
                                   static_cast<int>(model["missed_inner_pixels"]),
                                   static_cast<int>(model["missed_uncoverable_pixels"]))),
             std::string::npos);
-}
-
-// Waits up to `timeout` for `done()`; returns whether it happened.
-bool Eventually(const std::function<bool()>& done, std::chrono::seconds timeout) {
-  const auto until = std::chrono::steady_clock::now() + timeout;
-  while (!done()) {
-    if (std::chrono::steady_clock::now() > until) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
-  return true;
 }
 
 // The state of the live job's answer to the last stills request in `out` ("" if none yet).
