@@ -4,7 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <opencv2/flann.hpp>
+
+#include "aggregator/hulls/nearest_point.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -18,26 +19,12 @@ void DirectedDistances(const std::vector<Eigen::Vector3d>& from,
                        const std::vector<Eigen::Vector3d>& to, double& max, double& mean) {
   max = mean = 0;
   if (from.empty() || to.empty()) return;
-  cv::Mat points(static_cast<int>(to.size()), 3, CV_32F);
-  for (size_t k = 0; k < to.size(); ++k) {
-    for (int a = 0; a < 3; ++a)
-      points.at<float>(static_cast<int>(k), a) = static_cast<float>(to[k][a]);
-  }
-  cv::flann::Index index(points, cv::flann::KDTreeIndexParams(1));
-  cv::Mat queries(static_cast<int>(from.size()), 3, CV_32F);
-  for (size_t k = 0; k < from.size(); ++k) {
-    for (int a = 0; a < 3; ++a)
-      queries.at<float>(static_cast<int>(k), a) = static_cast<float>(from[k][a]);
-  }
-  cv::Mat indices, squared;
-  index.knnSearch(queries, indices, squared, 1, cv::flann::SearchParams(-1));  // exact
   double sum = 0;
-  for (int k = 0; k < squared.rows; ++k) {
-    const double d = std::sqrt(static_cast<double>(squared.at<float>(k, 0)));
+  for (double d : NearestPoint(to).Distances(from)) {
     max = std::max(max, d);
     sum += d;
   }
-  mean = sum / static_cast<double>(squared.rows);
+  mean = sum / static_cast<double>(from.size());
 }
 
 }  // namespace

@@ -11,7 +11,7 @@
 #include <random>
 
 #include "aggregator/hulls/hull_reprojection.h"
-#include "aggregator/stereo/nearest_point.h"
+#include "aggregator/hulls/nearest_point.h"
 #include "aggregator/stereo/traded_outer_pixels.h"
 #include "aggregator/stereo/uncoverable_pixels.h"
 #include "shared/util/check.h"
@@ -47,15 +47,22 @@ double EstimateSpacing(const std::vector<Eigen::Vector3d>& points, const Nearest
 
 // Distance from each query to the surface sampled by (points, normals) at `spacing`: the
 // smallest over the `k` nearest samples of sqrt((n.d)^2 + max(0, |d_tangential| - spacing)^2).
+// With `nearest`, also each query's nearest sample (-1 for none).
 std::vector<double> SurfaceDistances(const std::vector<Eigen::Vector3d>& queries,
                                      const std::vector<Eigen::Vector3d>& points,
                                      const std::vector<Eigen::Vector3d>& normals,
-                                     const NearestPoint& tree, double spacing, int k) {
+                                     const NearestPoint& tree, double spacing, int k,
+                                     std::vector<int>* nearest = nullptr) {
   std::vector<int> indices;
   std::vector<double> unused;
   tree.KNearest(queries, k, &indices, &unused);
   std::vector<double> out(queries.size(), std::numeric_limits<double>::infinity());
   const size_t kk = static_cast<size_t>(k);
+  if (nearest != nullptr) {
+    nearest->resize(queries.size());
+    for (size_t q = 0; q < queries.size(); ++q)
+      (*nearest)[q] = indices[q * kk];
+  }
   for (size_t q = 0; q < queries.size(); ++q) {
     for (size_t j = 0; j < kk; ++j) {
       const int i = indices[q * kk + j];
@@ -250,8 +257,9 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
   const NearestPoint truth_tree(truth_points, options.threads);
   result.truth_spacing =
       options.truth_spacing > 0 ? options.truth_spacing : EstimateSpacing(truth_points, truth_tree);
-  measured.sample_to_truth = SurfaceDistances(sample.points, truth_points, truth_normals,
-                                              truth_tree, result.truth_spacing, options.neighbours);
+  measured.sample_to_truth =
+      SurfaceDistances(sample.points, truth_points, truth_normals, truth_tree, result.truth_spacing,
+                       options.neighbours, &measured.nearest_truth);
   const std::vector<double>& to_truth = measured.sample_to_truth;
   result.accuracy_m = Quantile(to_truth, options.accuracy_fraction);
   result.accuracy_footprints = result.accuracy_m / options.footprint;
@@ -265,10 +273,6 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
                                              model_tree, result.sample_spacing, options.neighbours);
   for (Completeness& c : result.completeness)
     c.fraction = FractionWithin(measured.truth_to_model, c.distance_m);
-  if (!regions.empty() || distances != nullptr) {
-    std::vector<double> unused;
-    truth_tree.KNearest(sample.points, 1, &measured.nearest_truth, &unused);
-  }
   return finish();
 }
 

@@ -11,9 +11,9 @@
 #include <cstdio>
 #include <numbers>
 
+#include "aggregator/hulls/nearest_point.h"
 #include "aggregator/stereo/adaptive_stereo.h"
 #include "aggregator/stereo/model_evaluation.h"
-#include "aggregator/stereo/nearest_point.h"
 #include "aggregator/stereo/tet_cell_labels.h"
 #include "aggregator/stereo/tet_graph_cut.h"
 #include "aggregator/stereo/tet_point_locator.h"

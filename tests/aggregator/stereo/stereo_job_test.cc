@@ -27,10 +27,10 @@
 
 #include "aggregator/hulls/hull_reprojection.h"
 #include "aggregator/hulls/mesh_check.h"
+#include "aggregator/hulls/nearest_point.h"
 #include "aggregator/hulls/ply_io.h"
 #include "aggregator/stereo/model_evaluation.h"
 #include "aggregator/stereo/model_render.h"
-#include "aggregator/stereo/nearest_point.h"
 #include "shared/io/calibration_yaml.h"
 #include "shared/util/check.h"
 #include "sim/stills_generator.h"
@@ -79,6 +79,8 @@ TEST(NearestPointTest, ManyQueriesOnTwoThreadsGiveTheExactNearestPointsOfOne) {
     for (Eigen::Vector3d& p : *set)
       p = {uniform(rng), uniform(rng), uniform(rng)};
   }
+  for (size_t q = 0; q < queries.size(); q += 3)
+    queries[q] *= 2.5;  // many beyond the points' box, where the search order clamps them
   std::vector<int> one_indices, two_indices;
   std::vector<double> one_distances, two_distances;
   NearestPoint(points, 1).KNearest(queries, 3, &one_indices, &one_distances);

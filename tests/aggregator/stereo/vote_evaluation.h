@@ -5,13 +5,13 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "aggregator/stereo/nearest_point.h"
+#include "aggregator/hulls/nearest_point.h"
 #include "aggregator/stereo/photo_consistency.h"
 #include "aggregator/stereo/stereo_views.h"
 
 namespace silnet::aggregator::testing {
 
-// The library's k-d tree (aggregator/stereo/nearest_point.h), under the helpers' name.
+// The library's k-d tree (aggregator/hulls/nearest_point.h), under the helpers' name.
 using ::silnet::aggregator::NearestPoint;
 
 // Share of all votes in cells whose centre lies within `distance` of the truth, for each of

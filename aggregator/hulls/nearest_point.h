@@ -1,8 +1,8 @@
 #pragma once
 // Exact nearest points of a fixed 3D point set, by a k-d tree (nanoflann's single
 // deterministic tree, exact search: the same answers every run and on any thread count). For
-// surface distances: the Middlebury measures (model_evaluation.h) and the checks of vote
-// lattices against a true surface.
+// surface distances: hulls against their truth (mesh_measure.h), the Middlebury measures of
+// stereo models (stereo/model_evaluation.h) and the checks of vote lattices.
 
 #include <Eigen/Core>
 #include <cstddef>
