@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -14,6 +15,7 @@
 #include "shared/dds/sample_conversions.h"
 #include "shared/io/session_log_reader.h"
 #include "shared/util/crc32.h"
+#include "tests/support/eventually.h"
 #include "tests/support/temp_dir.h"
 
 namespace silnet::node {
@@ -22,15 +24,9 @@ namespace {
 using std::chrono::milliseconds;
 using std::chrono::seconds;
 
-// Polls `condition` for up to `timeout`.
-template <class Condition>
-bool Eventually(Condition condition, milliseconds timeout = milliseconds(10000)) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(milliseconds(20));
-  }
-  return condition();
+// Checks `condition` every 20 ms for up to 10 s (testing::Eventually).
+bool Eventually(const std::function<bool()>& condition) {
+  return testing::Eventually(condition, milliseconds(10000), milliseconds(20));
 }
 
 class CameraNodeTest : public ::testing::Test {

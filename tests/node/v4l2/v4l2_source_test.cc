@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdlib>
+#include <functional>
 #include <future>
 #include <memory>
 #include <opencv2/core.hpp>
@@ -19,6 +20,7 @@
 
 #include "node/capture/source_factory.h"
 #include "tests/node/v4l2/fake_v4l2_device.h"
+#include "tests/support/eventually.h"
 
 namespace silnet::node {
 namespace {
@@ -712,16 +714,10 @@ TEST(V4l2Source, RateIsUnknownWithoutFrameRateControl) {
 
 using Clock = std::chrono::steady_clock;
 
-// Polls `condition` every millisecond for up to a minute (generous for a busy machine); true
-// once it holds.
-template <typename Condition>
-bool WaitUntil(Condition condition) {
-  const Clock::time_point give_up = Clock::now() + std::chrono::seconds(60);
-  while (!condition()) {
-    if (Clock::now() > give_up) return false;
-    std::this_thread::sleep_for(milliseconds(1));
-  }
-  return true;
+// Checks `condition` every millisecond for up to a minute (generous for a busy machine); true
+// once it holds (testing::Eventually).
+bool WaitUntil(const std::function<bool()>& condition) {
+  return testing::Eventually(condition, std::chrono::seconds(60), milliseconds(1));
 }
 
 // A camera whose video is 64x48: YUYV goes up to 160x120, Motion-JPEG to 320x240 (4:3, the
