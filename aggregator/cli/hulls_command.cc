@@ -38,7 +38,10 @@ int RunHulls(const HullsArgs& args) {
   config.input = args.input;
   config.calibration = args.calibration;
   config.output = args.out;
-  ParseFrameRange(args.frames, &config.first_frame, &config.last_frame);
+  if (args.frames.empty())
+    config.every_covered_frame = true;
+  else
+    ParseFrameRange(args.frames, &config.first_frame, &config.last_frame);
   config.options.voxel_size = args.voxel;
   if (args.no_interpolation) config.options.interpolate = false;
   config.options.overlays = args.overlays;
@@ -71,8 +74,8 @@ Command AddHullsCommand(CLI::App& app) {
   cmd->add_option("--calib", args->calibration, "calibration.yaml (or ground_truth.yaml)")
       ->required();
   cmd->add_option("--frames", args->frames,
-                  "reference frames A:B (A..B-1) of the camera with time offset 0")
-      ->required();
+                  "reference frames A:B (A..B-1) of the camera with time offset 0 (default: "
+                  "every frame all cameras' silhouettes cover)");
   cmd->add_option("-o,--out", args->out, "output folder")->required();
   cmd->add_option("--voxel", args->voxel,
                   "voxel edge in metres, when carving (default: 1/200 of the bounds)")

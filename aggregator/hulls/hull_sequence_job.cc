@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <set>
@@ -76,27 +77,15 @@ void CheckCameras(const SilhouetteSource& silhouettes, const std::vector<CameraM
 
 // "; usable reference frames A:B" (or a note that there are none), for error messages.
 std::string UsableRange(const SilhouetteSource& silhouettes,
-                        const std::vector<CameraModel>& cameras, const CameraModel& reference,
-                        bool interpolate) {
-  double lowest = -1e18, highest = 1e18;
-  for (const CameraModel& camera : cameras) {
-    // Camera frame f(r) = a r + b of reference frame r; a > 0.
-    const double b = camera.FrameAt(reference.ExposureTime(0));
-    const double a = camera.FrameAt(reference.ExposureTime(1)) - b;
-    const double last = silhouettes.FrameCount(camera.id) - 1 - (interpolate ? 1 : 0);
-    lowest = std::max(lowest, (0 - b) / a);
-    highest = std::min(highest, (last - b) / a);
-  }
-  const int first = static_cast<int>(std::ceil(lowest - kIntegerTolerance));
-  const int last = static_cast<int>(std::floor(highest + kIntegerTolerance));
-  if (last < first) return "; no reference frame is seen by every camera";
-  return fmt::format("; usable reference frames {}:{}", first, last + 1);
+                        const std::vector<CameraModel>& cameras, bool interpolate) {
+  const auto usable = UsableReferenceFrames(silhouettes, cameras, interpolate);
+  if (!usable) return "; no reference frame is seen by every camera";
+  return fmt::format("; usable reference frames {}:{}", usable->first, usable->second);
 }
 
 // The mask sources of every camera for every reference frame; InputError if one is missing.
 std::vector<std::vector<MaskSource>> PlanSources(const SilhouetteSource& silhouettes,
                                                  const std::vector<CameraModel>& cameras,
-                                                 const CameraModel& reference,
                                                  const std::vector<double>& times, bool interpolate,
                                                  int first_frame) {
   std::vector<std::vector<MaskSource>> plan(times.size(), std::vector<MaskSource>(cameras.size()));
@@ -111,7 +100,7 @@ std::vector<std::vector<MaskSource>> PlanSources(const SilhouetteSource& silhoue
             "reference frame {} is out of range: camera {} would need its frame {:.3f} but has "
             "silhouettes 0..{}{}",
             first_frame + static_cast<int>(f), cameras[c].id, frame, count - 1,
-            UsableRange(silhouettes, cameras, reference, interpolate)));
+            UsableRange(silhouettes, cameras, interpolate)));
       }
       plan[f][c] = source;
     }
@@ -127,6 +116,36 @@ bool AnyFractional(const std::vector<CameraModel>& cameras, const std::vector<do
     }
   }
   return false;
+}
+
+// The exposure times of `reference`'s frames [first, last).
+std::vector<double> ReferenceTimes(const CameraModel& reference, int first, int last) {
+  std::vector<double> times;
+  for (int frame = first; frame < last; ++frame)
+    times.push_back(reference.ExposureTime(frame));
+  return times;
+}
+
+// Every reference frame all cameras cover: with the frame after each camera's own too when
+// `interpolate` says so or, unset, when those frames fall between the cameras' frames.
+std::pair<int, int> EveryCoveredFrame(const SilhouetteSource& silhouettes,
+                                      const std::vector<CameraModel>& cameras,
+                                      std::optional<bool> interpolate) {
+  auto usable = UsableReferenceFrames(silhouettes, cameras, interpolate.value_or(false));
+  if (usable && !interpolate.has_value() &&
+      AnyFractional(cameras, ReferenceTimes(cameras[ReferenceCameraIndex(cameras)], usable->first,
+                                            usable->second))) {
+    usable = UsableReferenceFrames(silhouettes, cameras, true);
+  }
+  if (!usable) {
+    throw InputError(fmt::format(
+        "no reference frame is seen by every camera of the calibration in {} (their time "
+        "offsets leave no frame in common)",
+        silhouettes.root().string()));
+  }
+  spdlog::info("hulls: reference frames {}:{}, every frame all {} cameras cover", usable->first,
+               usable->second, cameras.size());
+  return *usable;
 }
 
 std::string PlyName(int frame) {
@@ -303,6 +322,29 @@ size_t ReferenceCameraIndex(const std::vector<CameraModel>& cameras) {
   return 0;
 }
 
+std::optional<std::pair<int, int>> UsableReferenceFrames(const SilhouetteSource& silhouettes,
+                                                         const std::vector<CameraModel>& cameras,
+                                                         bool interpolate) {
+  if (cameras.empty()) return std::nullopt;
+  const CameraModel& reference = cameras[ReferenceCameraIndex(cameras)];
+  int first = std::numeric_limits<int>::min(), last = std::numeric_limits<int>::max();
+  for (const CameraModel& camera : cameras) {
+    // Camera frame f(r) = a r + b of reference frame r; a > 0. SourceFor needs f in
+    // [0, count - 1] to interpolate (an integer f within the tolerance reads one frame), and
+    // f rounding into 0..count-1, f in (-0.5, count - 0.5), to take the nearest frame.
+    const double b = camera.FrameAt(reference.ExposureTime(0));
+    const double a = camera.FrameAt(reference.ExposureTime(1)) - b;
+    const double count = silhouettes.FrameCount(camera.id);
+    const double low = interpolate ? (0 - b) / a - kIntegerTolerance : (-0.5 - b) / a;
+    const double high =
+        interpolate ? (count - 1 - b) / a + kIntegerTolerance : (count - 0.5 - b) / a;
+    first = std::max(first, static_cast<int>(interpolate ? std::ceil(low) : std::floor(low) + 1));
+    last = std::min(last, static_cast<int>(interpolate ? std::floor(high) : std::ceil(high) - 1));
+  }
+  if (last < first) return std::nullopt;
+  return std::pair<int, int>(first, last + 1);
+}
+
 HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config, Progress* progress) {
   return RunHullSequenceJob(config, *OpenSilhouetteSource(config.input), progress);
 }
@@ -312,7 +354,7 @@ HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config,
   const auto start = std::chrono::steady_clock::now();
   std::string why;
   if (!config.options.IsValid(&why)) throw InputError(why);
-  if (config.last_frame <= config.first_frame) {
+  if (!config.every_covered_frame && config.last_frame <= config.first_frame) {
     throw InputError(fmt::format("the frame range {}:{} is empty (frames A:B run A..B-1)",
                                  config.first_frame, config.last_frame));
   }
@@ -320,18 +362,21 @@ HullSequenceResult RunHullSequenceJob(const HullSequenceConfig& config,
   CheckCameras(silhouettes, cameras, config.calibration);
 
   const CameraModel& reference = cameras[ReferenceCameraIndex(cameras)];
-  const size_t n = static_cast<size_t>(config.last_frame - config.first_frame);
+  const auto [first_frame, last_frame] =
+      config.every_covered_frame
+          ? EveryCoveredFrame(silhouettes, cameras, config.options.interpolate)
+          : std::pair<int, int>(config.first_frame, config.last_frame);
+  const size_t n = static_cast<size_t>(last_frame - first_frame);
   HullSequenceResult result;
   result.frames.resize(n);
-  std::vector<double> times(n);
+  const std::vector<double> times = ReferenceTimes(reference, first_frame, last_frame);
   for (size_t f = 0; f < n; ++f) {
-    result.frames[f].frame = config.first_frame + static_cast<int>(f);
-    result.frames[f].time_s = times[f] = reference.ExposureTime(result.frames[f].frame);
+    result.frames[f].frame = first_frame + static_cast<int>(f);
+    result.frames[f].time_s = times[f];
     result.frames[f].reason = "cancelled";
   }
   result.interpolated = config.options.interpolate.value_or(AnyFractional(cameras, times));
-  const auto plan =
-      PlanSources(silhouettes, cameras, reference, times, result.interpolated, config.first_frame);
+  const auto plan = PlanSources(silhouettes, cameras, times, result.interpolated, first_frame);
 
   result.voxel_size =
       config.options.voxel_size > 0

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "aggregator/hulls/hull_reprojection.h"
@@ -48,6 +49,9 @@ struct HullSequenceConfig {
   std::filesystem::path output;       // created if missing
   int first_frame = 0;                // reference frames [first_frame, last_frame)
   int last_frame = 0;
+  // Instead of first_frame..last_frame: every reference frame all cameras' silhouettes cover
+  // (UsableReferenceFrames).
+  bool every_covered_frame = false;
   HullSequenceOptions options;
 };
 
@@ -104,5 +108,12 @@ void WriteHullIndex(const HullSequenceConfig& config, const HullSequenceResult& 
 
 // The reference camera's index in `cameras` by the rule above (0 if none has offset 0).
 size_t ReferenceCameraIndex(const std::vector<CameraModel>& cameras);
+
+// Reference frames [first, last) at which every camera of `cameras` has the silhouettes it
+// needs in `silhouettes` (with `interpolate`, its frame after the one it saw too); nullopt
+// when no reference frame is seen by every camera.
+std::optional<std::pair<int, int>> UsableReferenceFrames(const SilhouetteSource& silhouettes,
+                                                         const std::vector<CameraModel>& cameras,
+                                                         bool interpolate);
 
 }  // namespace silnet::aggregator

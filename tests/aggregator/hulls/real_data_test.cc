@@ -3,6 +3,7 @@
 
 #include "tests/support/real_data.h"
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -15,6 +16,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <utility>
 
 #include "aggregator/hulls/boundary_mesh.h"
 #include "aggregator/hulls/hull_reprojection.h"
@@ -458,6 +460,44 @@ TEST(HullSequenceJobTest, WritesMeshesIndexAndOverlays) {
   EXPECT_EQ(frames[0]["views"].size(), data.cameras.size());
   EXPECT_NEAR(static_cast<double>(frames[0]["views"][0]["missed_fraction"]),
               result.frames[0].views[0].missed_fraction, 1e-12);
+}
+
+// Without a frame range the job builds every reference frame at which each camera has the
+// frames it needs (the two its interpolated silhouette blends, or the nearest one), and no
+// other: one frame more at either end is refused, the message naming the usable range.
+TEST(HullSequenceJobTest, BuildsEveryFrameAllCamerasCoverByDefault) {
+  const SimulatedDataset data;
+  const size_t reference = ReferenceCameraIndex(data.cameras);
+  double lowest = -1e9, highest = 1e9;  // camera frame = reference frame + ref (equal rates)
+  for (const CameraModel& camera : data.cameras) {
+    const double ref = data.cameras[reference].time_offset - camera.time_offset;
+    lowest = std::max(lowest, -ref);
+    highest = std::min(highest, 15 - ref);  // camera frames 0..15
+  }
+  for (const bool interpolate : {true, false}) {
+    HullSequenceConfig config = data.Config(0, 0);
+    config.every_covered_frame = true;
+    config.options.polyhedral = false;
+    if (!interpolate) config.options.interpolate = false;
+    const HullSequenceResult result = RunHullSequenceJob(config, nullptr);
+    EXPECT_EQ(result.interpolated, interpolate);
+    ASSERT_FALSE(result.frames.empty());
+    const int first = result.frames.front().frame, last = result.frames.back().frame;
+    EXPECT_EQ(first, interpolate ? static_cast<int>(std::ceil(lowest))
+                                 : static_cast<int>(std::floor(lowest - 0.5)) + 1);
+    EXPECT_EQ(last, interpolate ? static_cast<int>(std::floor(highest))
+                                : static_cast<int>(std::ceil(highest + 0.5)) - 1);
+    EXPECT_EQ(result.Succeeded(), result.frames.size());
+
+    const std::string usable = fmt::format("usable reference frames {}:{}", first, last + 1);
+    for (const int outside : {first - 1, last + 1}) {
+      HullSequenceConfig one = data.Config(outside, outside + 1);
+      one.options = config.options;
+      EXPECT_THAT([&] { RunHullSequenceJob(one, nullptr); },
+                  ::testing::ThrowsMessage<InputError>(::testing::HasSubstr(usable)))
+          << "interpolate " << interpolate << ", frame " << outside;
+    }
+  }
 }
 
 // A camera's mask of frame `k` in a dataset as the Contour record its node would send
