@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cmath>
 #include <iterator>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -40,12 +39,7 @@ ImageFolderSource::ImageFolderSource(ImageFolderSourceOptions options)
 void ImageFolderSource::Open() {
   Close();
   const std::filesystem::path& folder = options_.folder;
-  if (options_.width < 0 || options_.height < 0 || (options_.width == 0) != (options_.height == 0))
-    throw CaptureError(
-        fmt::format("image folder {}: give both width and height, or neither", folder.string()));
-  if (!std::isfinite(options_.fps) || options_.fps < 0.0)
-    throw CaptureError(
-        fmt::format("image folder {}: bad frame rate {}", folder.string(), options_.fps));
+  CheckReplayOptions(options_, "image folder " + folder.string());
   if (options_.real_time && options_.fps <= 0.0)
     throw CaptureError(
         fmt::format("image folder {}: real-time replay needs a frame rate", folder.string()));

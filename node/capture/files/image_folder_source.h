@@ -16,28 +16,12 @@
 
 namespace silnet::node {
 
-// What ImageFolderSource replays and how.
-struct ImageFolderSourceOptions {
+// What ImageFolderSource replays and how (ReplayOptions: the timing and size).
+struct ImageFolderSourceOptions : ReplayOptions {
   // Folder holding the images (png, jpg, jpeg, bmp, pbm, pgm, ppm, tif, tiff; any case).
   std::filesystem::path folder;
   // Read images as greyscale CV_8UC1 (silhouette masks) instead of CV_8UC3 BGR.
   bool masks = false;
-  // Expected image size; both 0 take the size of the first readable image.
-  int width = 0;
-  int height = 0;
-  // Nominal frame rate; 0 = unknown (timestamps are then the time of Read()).
-  double fps = 0.0;
-  // Release each frame no earlier than its due time (needs fps > 0).
-  bool real_time = false;
-  // CLOCK_REALTIME instant of reference time 0; 0 = the time of Open().
-  int64_t start_ns = 0;
-  // Time offset of this camera in frames: the n-th delivered image (n = 0, 1, ...) is due at
-  // start + (n + offset_frames) / fps.
-  double offset_frames = 0.0;
-  // Position (in file-name order) of the first image to deliver.
-  uint64_t first_frame = 0;
-  // Number of images to deliver at most; 0 = all.
-  uint64_t max_frames = 0;
 };
 
 // The images of a folder in file-name order. frame_index is the image's position in the

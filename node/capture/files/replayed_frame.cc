@@ -1,11 +1,21 @@
 #include "node/capture/files/replayed_frame.h"
 
+#include <fmt/format.h>
+
+#include <cmath>
 #include <utility>
 
 #include "shared/util/check.h"
 #include "shared/util/realtime_clock.h"
 
 namespace silnet::node {
+
+void CheckReplayOptions(const ReplayOptions& options, const std::string& source) {
+  if (options.width < 0 || options.height < 0 || (options.width == 0) != (options.height == 0))
+    throw CaptureError(fmt::format("{}: give both width and height, or neither", source));
+  if (!std::isfinite(options.fps) || options.fps < 0.0)
+    throw CaptureError(fmt::format("{}: bad frame rate {}", source, options.fps));
+}
 
 CaptureStatus DeliverReplayedFrame(std::optional<ReplayedFrame>* pending,
                                    const std::optional<FramePacer>& pacer, bool real_time,

@@ -41,10 +41,7 @@ VideoFileSource::VideoFileSource(VideoFileSourceOptions options) : options_(std:
 void VideoFileSource::Open() {
   Close();
   const std::string name = options_.file.string();
-  if (options_.width < 0 || options_.height < 0 || (options_.width == 0) != (options_.height == 0))
-    throw CaptureError(fmt::format("video file {}: give both width and height, or neither", name));
-  if (!std::isfinite(options_.fps) || options_.fps < 0.0)
-    throw CaptureError(fmt::format("video file {}: bad frame rate {}", name, options_.fps));
+  CheckReplayOptions(options_, "video file " + name);
   std::error_code error;
   if (!std::filesystem::is_regular_file(options_.file, error))
     throw CaptureError(fmt::format("video file {} does not exist or is not a file", name));

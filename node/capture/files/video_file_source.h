@@ -15,28 +15,12 @@
 
 namespace silnet::node {
 
-// What VideoFileSource replays and how.
-struct VideoFileSourceOptions {
+// What VideoFileSource replays and how (ReplayOptions: the timing and size; an fps of 0 takes
+// the container's).
+struct VideoFileSourceOptions : ReplayOptions {
   // The video file (any container and codec OpenCV's FFmpeg, GStreamer or built-in MJPEG
   // backend decodes).
   std::filesystem::path file;
-  // Expected frame size; both 0 take the container's (or the first frame's) size.
-  int width = 0;
-  int height = 0;
-  // Nominal frame rate; 0 = the container's (timestamps are the time of Read() if neither
-  // is known).
-  double fps = 0.0;
-  // Release each frame no earlier than its due time (needs a known fps).
-  bool real_time = false;
-  // CLOCK_REALTIME instant of reference time 0; 0 = the time of Open().
-  int64_t start_ns = 0;
-  // Time offset of this camera in frames: the n-th delivered frame (n = 0, 1, ...) is due at
-  // start + (n + offset_frames) / fps.
-  double offset_frames = 0.0;
-  // Decode-order index of the first frame to deliver (earlier frames are skipped).
-  uint64_t first_frame = 0;
-  // Number of frames to deliver at most; 0 = all.
-  uint64_t max_frames = 0;
 };
 
 // The frames of a video file as CV_8UC3 BGR. frame_index is the frame's position in decode
