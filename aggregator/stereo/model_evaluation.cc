@@ -15,6 +15,7 @@
 #include "aggregator/stereo/traded_outer_pixels.h"
 #include "aggregator/stereo/uncoverable_pixels.h"
 #include "shared/util/check.h"
+#include "shared/util/parallel_for.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -348,29 +349,33 @@ double MissedInnerShare(const TriangleMesh& surface, const std::vector<CameraMod
 }
 
 std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(
-    const TriangleMesh& model, const std::vector<StereoView>& views, double margin_px) {
-  std::vector<SilhouetteConsistency> out;
+    const TriangleMesh& model, const std::vector<StereoView>& views, double margin_px,
+    int threads) {
+  std::vector<SilhouetteConsistency> out(views.size());
   const GrownSilhouettes grown = GrowSilhouettes(views, margin_px);
-  std::vector<cv::Mat> inner;
-  for (const StereoView& view : views)
-    inner.push_back(InnerSilhouettePixels(view.mask, margin_px));
+  std::vector<cv::Mat> inner(views.size()), covered_outer(views.size());
+  std::vector<VertexPixels> projected(views.size());
+  // Each view on its own (render, compare, its uncoverable misses); the outer pixels covered
+  // in trade, rare, after them on one thread: they share a cache of other views' pixels.
+  ParallelFor(views.size(), threads, [&](size_t v) {
+    const StereoView& view = views[v];
+    inner[v] = InnerSilhouettePixels(view.mask, margin_px);
+    projected[v] = ProjectVertices(model, view.camera);
+    const cv::Mat rendered =
+        RenderMeshSilhouette(model, projected[v], view.camera.width, view.camera.height);
+    cv::Mat missed;
+    out[v] = CompareWithInnerPixels(rendered, view.mask, inner[v], margin_px, &missed,
+                                    &covered_outer[v]);
+    out[v].camera_id = view.camera.id;
+    if (out[v].missed_inner > 0)
+      out[v].missed_uncoverable = CountUncoverable(views, grown, v, missed);
+  });
   std::optional<UncoverableInnerPixels> uncoverable;
   for (size_t v = 0; v < views.size(); ++v) {
-    const StereoView& view = views[v];
-    const VertexPixels projected = ProjectVertices(model, view.camera);
-    const cv::Mat rendered =
-        RenderMeshSilhouette(model, projected, view.camera.width, view.camera.height);
-    cv::Mat missed, covered_outer;
-    SilhouetteConsistency c =
-        CompareWithInnerPixels(rendered, view.mask, inner[v], margin_px, &missed, &covered_outer);
-    c.camera_id = view.camera.id;
-    if (c.missed_inner > 0) c.missed_uncoverable = CountUncoverable(views, grown, v, missed);
-    if (c.covered_outer > 0) {
-      if (!uncoverable) uncoverable.emplace(views, grown, inner);
-      c.covered_outer_traded =
-          CountOuterCoveredForUncoverable(model, projected, views, v, covered_outer, *uncoverable);
-    }
-    out.push_back(c);
+    if (out[v].covered_outer == 0) continue;
+    if (!uncoverable) uncoverable.emplace(views, grown, inner);
+    out[v].covered_outer_traded = CountOuterCoveredForUncoverable(model, projected[v], views, v,
+                                                                  covered_outer[v], *uncoverable);
   }
   return out;
 }

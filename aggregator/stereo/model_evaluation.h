@@ -177,8 +177,9 @@ double MissedInnerShare(const TriangleMesh& surface, const std::vector<CameraMod
 // Renders `model` into every view (RenderMeshSilhouette) and compares it with the view's mask,
 // telling the missed inner pixels no consistent model covers (missed_uncoverable) and the
 // outer pixels covered in trade for another view's such pixel (covered_outer_traded) apart.
+// The views are measured on `threads` threads (0 = all cores), the same figures as on one.
 std::vector<SilhouetteConsistency> MeasureSilhouetteConsistency(
     const TriangleMesh& model, const std::vector<StereoView>& views,
-    double margin_px = kSilhouetteMarginPx);
+    double margin_px = kSilhouetteMarginPx, int threads = 0);
 
 }  // namespace silnet::aggregator

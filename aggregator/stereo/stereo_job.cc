@@ -408,10 +408,14 @@ StereoJobResult RunStereoJob(const StereoJobConfig& config, Progress* progress) 
   // Evaluation.
   stage = Clock::now();
   if (progress) progress->Restart("evaluation", 2);
-  result.hull.views = MeasureSilhouetteConsistency(hull.mesh, views.views);
-  result.model.views = MeasureSilhouetteConsistency(model_surface, views.views);
-  if (!cut_surface.triangles.empty())
-    result.cut.views = MeasureSilhouetteConsistency(cut_surface, views.views);
+  result.hull.views =
+      MeasureSilhouetteConsistency(hull.mesh, views.views, kSilhouetteMarginPx, config.threads);
+  result.model.views =
+      MeasureSilhouetteConsistency(model_surface, views.views, kSilhouetteMarginPx, config.threads);
+  if (!cut_surface.triangles.empty()) {
+    result.cut.views =
+        MeasureSilhouetteConsistency(cut_surface, views.views, kSilhouetteMarginPx, config.threads);
+  }
   if (progress) progress->Advance();
   if (truth && result.footprint > 0) {
     StereoTruthEvaluation measured = EvaluateAgainstTruth(

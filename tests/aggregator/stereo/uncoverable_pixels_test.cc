@@ -9,6 +9,7 @@
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <tuple>
 
 #include "aggregator/stereo/model_evaluation.h"
 #include "shared/util/check.h"
@@ -110,6 +111,21 @@ TEST(UncoverablePixelsTest, OuterPixelsCoveredForAnotherViewsUncoverablePixelsAr
   EXPECT_GT(sum(with_ball, &SilhouetteConsistency::covered_outer), 100u);
   for (size_t v = 1; v < views.size(); ++v)
     EXPECT_EQ(with_ball[v].covered_outer_traded, with_ball[v].covered_outer) << "view " << v;
+  // Measured on one thread: the same figures.
+  const std::vector<SilhouetteConsistency> one_thread =
+      MeasureSilhouetteConsistency(traded, views, kSilhouetteMarginPx, 1);
+  ASSERT_EQ(one_thread.size(), with_ball.size());
+  for (size_t v = 0; v < views.size(); ++v) {
+    const SilhouetteConsistency &a = one_thread[v], &b = with_ball[v];
+    EXPECT_EQ(a.camera_id, b.camera_id);
+    EXPECT_EQ(std::tie(a.silhouette_pixels, a.inner_pixels, a.missed_inner, a.missed_uncoverable,
+                       a.outer_pixels, a.covered_outer, a.covered_outer_traded, a.missed_pixels,
+                       a.covered_background),
+              std::tie(b.silhouette_pixels, b.inner_pixels, b.missed_inner, b.missed_uncoverable,
+                       b.outer_pixels, b.covered_outer, b.covered_outer_traded, b.missed_pixels,
+                       b.covered_background))
+        << "view " << v;
+  }
 
   // The same ball on the axis between view 0 and the sphere: view 0 sees it inside the
   // sphere's silhouette, where every pixel is coverable, so its outer pixels elsewhere are
