@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <limits>
 #include <nanoflann.hpp>
-#include <utility>
 
+#include "aggregator/hulls/morton_order.h"
 #include "shared/util/check.h"
 #include "shared/util/parallel_for.h"
 
@@ -15,61 +15,6 @@ namespace {
 
 // Queries answered per task: enough to make a task's overhead negligible.
 constexpr size_t kQueriesPerTask = 8192;
-
-// Bits per axis of the Morton codes that order points along a space-filling curve.
-constexpr int kMortonBits = 21;
-
-// Spreads the low 21 bits of `v` to every third bit.
-uint64_t SpreadBits(uint64_t v) {
-  v &= 0x1fffff;
-  v = (v | v << 32) & 0x1f00000000ffffULL;
-  v = (v | v << 16) & 0x1f0000ff0000ffULL;
-  v = (v | v << 8) & 0x100f00f00f00f00fULL;
-  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-  v = (v | v << 2) & 0x1249249249249249ULL;
-  return v;
-}
-
-// A point's position on the Morton curve over the box [lo, lo + 1/scale]^3 (points outside
-// clamped to it): points close in space mostly get close codes.
-struct MortonCurve {
-  Eigen::Vector3d lo = Eigen::Vector3d::Zero();
-  double scale = 0;
-
-  explicit MortonCurve(const std::vector<Eigen::Vector3d>& points) {
-    if (points.empty()) return;
-    Eigen::Vector3d hi = points.front();
-    lo = hi;
-    for (const Eigen::Vector3d& p : points) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-    const double extent = (hi - lo).maxCoeff();
-    scale = extent > 0 ? static_cast<double>((1 << kMortonBits) - 1) / extent : 0.0;
-  }
-
-  uint64_t Code(const Eigen::Vector3d& p) const {
-    constexpr double kLastCell = static_cast<double>((1 << kMortonBits) - 1);
-    uint64_t code = 0;
-    for (int axis = 0; axis < 3; ++axis) {
-      const double cell = (p[axis] - lo[axis]) * scale;  // NaN and below the box: cell 0
-      code |= SpreadBits(static_cast<uint64_t>(cell > 0 ? std::min(cell, kLastCell) : 0.0)) << axis;
-    }
-    return code;
-  }
-
-  // The indices of `points` in curve order (ties by index: deterministic).
-  std::vector<uint32_t> Order(const std::vector<Eigen::Vector3d>& points) const {
-    std::vector<std::pair<uint64_t, uint32_t>> keyed(points.size());
-    for (size_t i = 0; i < points.size(); ++i)
-      keyed[i] = {Code(points[i]), static_cast<uint32_t>(i)};
-    std::sort(keyed.begin(), keyed.end());
-    std::vector<uint32_t> order(points.size());
-    for (size_t i = 0; i < keyed.size(); ++i)
-      order[i] = keyed[i].second;
-    return order;
-  }
-};
 
 // The indexed points as nanoflann reads them.
 struct PointCloud {

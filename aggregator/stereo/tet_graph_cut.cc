@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "aggregator/hulls/morton_order.h"
 #include "aggregator/stereo/max_flow.h"
 #include "shared/util/check.h"
 #include "shared/util/parallel_for.h"
@@ -22,17 +23,6 @@ struct TetGraphCut::Graph {
 
 namespace {
 
-// Spreads the low 21 bits of x over every third bit.
-uint64_t SpreadBits(uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffull;
-  x = (x | x << 16) & 0x1f0000ff0000ffull;
-  x = (x | x << 8) & 0x100f00f00f00f00full;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ull;
-  x = (x | x << 2) & 0x1249249249249249ull;
-  return x;
-}
-
 // Per cell, its node: the cells not labelled exterior numbered in the Z-order of their
 // centroids, so cells near in space get near node ids and the max-flow's searches touch memory
 // near what they touched last; -1 for the exterior ones (merged into the sink).
@@ -40,18 +30,14 @@ std::vector<int32_t> SpatialNodeOrder(const TetMesh& mesh, const std::vector<Cel
   Eigen::AlignedBox3d box;
   for (const Eigen::Vector3d& v : mesh.vertices)
     box.extend(v);
-  const Eigen::Vector3d scale = (double{(1 << 21) - 1} / box.sizes().array().max(1e-12)).matrix();
+  const MortonCurve curve(box);
   std::vector<std::pair<uint64_t, int32_t>> keyed;
   for (size_t t = 0; t < mesh.tetrahedra.size(); ++t) {
     if (labels[t] == CellLabel::kExterior) continue;
     const Tetrahedron& q = mesh.tetrahedra[t];
     const Eigen::Vector3d centre =
         (mesh.vertices[q[0]] + mesh.vertices[q[1]] + mesh.vertices[q[2]] + mesh.vertices[q[3]]) / 4;
-    const Eigen::Vector3d cell = (centre - box.min()).cwiseProduct(scale);
-    keyed.emplace_back(SpreadBits(static_cast<uint64_t>(cell.x())) |
-                           SpreadBits(static_cast<uint64_t>(cell.y())) << 1 |
-                           SpreadBits(static_cast<uint64_t>(cell.z())) << 2,
-                       static_cast<int32_t>(t));
+    keyed.emplace_back(curve.Code(centre), static_cast<int32_t>(t));
   }
   std::sort(keyed.begin(), keyed.end());
   std::vector<int32_t> node(mesh.tetrahedra.size(), -1);
