@@ -27,22 +27,20 @@ namespace {
 // centroids, so cells near in space get near node ids and the max-flow's searches touch memory
 // near what they touched last; -1 for the exterior ones (merged into the sink).
 std::vector<int32_t> SpatialNodeOrder(const TetMesh& mesh, const std::vector<CellLabel>& labels) {
-  Eigen::AlignedBox3d box;
-  for (const Eigen::Vector3d& v : mesh.vertices)
-    box.extend(v);
-  const MortonCurve curve(box);
-  std::vector<std::pair<uint64_t, int32_t>> keyed;
+  std::vector<Eigen::Vector3d> centres;
+  std::vector<int32_t> cells;  // centres[k] is cell cells[k]'s
   for (size_t t = 0; t < mesh.tetrahedra.size(); ++t) {
     if (labels[t] == CellLabel::kExterior) continue;
     const Tetrahedron& q = mesh.tetrahedra[t];
-    const Eigen::Vector3d centre =
-        (mesh.vertices[q[0]] + mesh.vertices[q[1]] + mesh.vertices[q[2]] + mesh.vertices[q[3]]) / 4;
-    keyed.emplace_back(curve.Code(centre), static_cast<int32_t>(t));
+    centres.push_back(
+        (mesh.vertices[q[0]] + mesh.vertices[q[1]] + mesh.vertices[q[2]] + mesh.vertices[q[3]]) /
+        4);
+    cells.push_back(static_cast<int32_t>(t));
   }
-  std::sort(keyed.begin(), keyed.end());
+  const std::vector<uint32_t> order = MortonCurve(mesh.vertices).Order(centres);
   std::vector<int32_t> node(mesh.tetrahedra.size(), -1);
-  for (size_t r = 0; r < keyed.size(); ++r)
-    node[static_cast<size_t>(keyed[r].second)] = static_cast<int32_t>(r);
+  for (size_t r = 0; r < order.size(); ++r)
+    node[static_cast<size_t>(cells[order[r]])] = static_cast<int32_t>(r);
   return node;
 }
 
