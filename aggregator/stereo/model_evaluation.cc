@@ -216,6 +216,16 @@ SurfaceSample SampleSurfaceBySpacing(const TriangleMesh& mesh, double spacing, u
   return sample;
 }
 
+TruthSurface::TruthSurface(const std::vector<Eigen::Vector3d>& points,
+                           const std::vector<Eigen::Vector3d>& normals, double spacing, int threads)
+    : points_(points), normals_(normals) {
+  SILNET_CHECK(points.size() == normals.size());
+  index_ = std::make_unique<NearestPoint>(points, threads);
+  spacing_ = spacing > 0 ? spacing : EstimateSpacing(points, *index_);
+}
+
+TruthSurface::~TruthSurface() = default;
+
 ModelEvaluation EvaluateModel(const TriangleMesh& model,
                               const std::vector<Eigen::Vector3d>& truth_points,
                               const std::vector<Eigen::Vector3d>& truth_normals,
@@ -224,7 +234,17 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
                               ModelDistances* distances) {
   std::string why;
   SILNET_CHECK_MSG(options.IsValid(&why), why);
-  SILNET_CHECK(truth_points.size() == truth_normals.size());
+  const TruthSurface truth(truth_points, truth_normals, options.truth_spacing, options.threads);
+  return EvaluateModel(model, truth, options, regions, distances);
+}
+
+ModelEvaluation EvaluateModel(const TriangleMesh& model, const TruthSurface& truth,
+                              const ModelEvaluationOptions& options,
+                              const std::vector<SurfaceRegion>& regions,
+                              ModelDistances* distances) {
+  std::string why;
+  SILNET_CHECK_MSG(options.IsValid(&why), why);
+  const std::vector<Eigen::Vector3d>& truth_points = truth.points();
   for (const SurfaceRegion& region : regions)
     SILNET_CHECK_MSG(region.truth.size() == truth_points.size(), region.name);
   ModelEvaluation result;
@@ -255,12 +275,10 @@ ModelEvaluation EvaluateModel(const TriangleMesh& model,
   };
   if (sample.points.empty() || truth_points.empty()) return finish();
 
-  const NearestPoint truth_tree(truth_points, options.threads);
-  result.truth_spacing =
-      options.truth_spacing > 0 ? options.truth_spacing : EstimateSpacing(truth_points, truth_tree);
+  result.truth_spacing = truth.spacing();
   measured.sample_to_truth =
-      SurfaceDistances(sample.points, truth_points, truth_normals, truth_tree, result.truth_spacing,
-                       options.neighbours, &measured.nearest_truth);
+      SurfaceDistances(sample.points, truth_points, truth.normals(), truth.index(),
+                       result.truth_spacing, options.neighbours, &measured.nearest_truth);
   const std::vector<double>& to_truth = measured.sample_to_truth;
   result.accuracy_m = Quantile(to_truth, options.accuracy_fraction);
   result.accuracy_footprints = result.accuracy_m / options.footprint;

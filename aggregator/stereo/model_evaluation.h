@@ -27,6 +27,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <opencv2/core/mat.hpp>
 #include <string>
 #include <vector>
@@ -35,6 +36,8 @@
 #include "aggregator/stereo/stereo_views.h"
 
 namespace silnet::aggregator {
+
+class NearestPoint;
 
 // Settings of the surface measures.
 struct ModelEvaluationOptions {
@@ -115,10 +118,42 @@ struct ModelDistances {
                                         // infinite when the model is empty)
 };
 
-// Accuracy and completeness of `model` (world metres) against the true points and unit
-// normals (same length), and restricted to each of `regions` (flags as long as the truth);
-// with `distances` the distances behind them. Throws CheckError for invalid options or
-// mismatched lengths; an empty model or truth gives infinite accuracy and zero completeness.
+// The true surface prepared once for several evaluations: its points and unit normals (same
+// length, referenced: they must outlive it), their nearest-point index and their spacing
+// (`spacing` if > 0, otherwise estimated from the points).
+class TruthSurface {
+ public:
+  // Indexes the points on `threads` threads (0 = all cores). CheckError if the lengths differ.
+  TruthSurface(const std::vector<Eigen::Vector3d>& points,
+               const std::vector<Eigen::Vector3d>& normals, double spacing, int threads);
+  ~TruthSurface();
+  TruthSurface(const TruthSurface&) = delete;
+  TruthSurface& operator=(const TruthSurface&) = delete;
+
+  const std::vector<Eigen::Vector3d>& points() const { return points_; }
+  const std::vector<Eigen::Vector3d>& normals() const { return normals_; }
+  const NearestPoint& index() const { return *index_; }
+  double spacing() const { return spacing_; }
+
+ private:
+  const std::vector<Eigen::Vector3d>& points_;
+  const std::vector<Eigen::Vector3d>& normals_;
+  std::unique_ptr<NearestPoint> index_;
+  double spacing_ = 0.0;
+};
+
+// Accuracy and completeness of `model` (world metres) against the true surface, and restricted
+// to each of `regions` (flags as long as the truth); with `distances` the distances behind
+// them. Throws CheckError for invalid options or mismatched lengths; an empty model or truth
+// gives infinite accuracy and zero completeness. The truth's spacing and index are the
+// surface's (options.truth_spacing and options.threads served to prepare it).
+ModelEvaluation EvaluateModel(const TriangleMesh& model, const TruthSurface& truth,
+                              const ModelEvaluationOptions& options,
+                              const std::vector<SurfaceRegion>& regions = {},
+                              ModelDistances* distances = nullptr);
+
+// EvaluateModel against the true points and unit normals, prepared for this one call with
+// options.truth_spacing and options.threads.
 ModelEvaluation EvaluateModel(const TriangleMesh& model,
                               const std::vector<Eigen::Vector3d>& truth_points,
                               const std::vector<Eigen::Vector3d>& truth_normals,

@@ -70,15 +70,16 @@ StereoTruthEvaluation EvaluateAgainstTruth(const TriangleMesh& hull, const Trian
                                            const std::vector<StereoView>& views,
                                            const TriangleMesh* cut, int threads) {
   const ModelEvaluationOptions options = StereoEvaluationOptions(truth, footprint, threads);
+  const TruthSurface surface(truth.points, truth.normals, options.truth_spacing, threads);
   StereoTruthEvaluation result;
   ModelDistances to_hull;
-  result.hull = EvaluateModel(hull, truth.points, truth.normals, options, {}, &to_hull);
+  result.hull = EvaluateModel(hull, surface, options, {}, &to_hull);
   const std::vector<SurfaceRegion> regions = {ConcaveRegion(to_hull.truth_to_model, footprint),
                                               TJunctions(truth, views)};
   for (const SurfaceRegion& region : regions)
     result.hull.regions.push_back(EvaluateRegion(region, to_hull, options));
-  result.model = EvaluateModel(model, truth.points, truth.normals, options, regions);
-  if (cut) result.cut = EvaluateModel(*cut, truth.points, truth.normals, options, regions);
+  result.model = EvaluateModel(model, surface, options, regions);
+  if (cut) result.cut = EvaluateModel(*cut, surface, options, regions);
   return result;
 }
 

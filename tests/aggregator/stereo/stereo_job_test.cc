@@ -128,8 +128,20 @@ TEST(ModelEvaluationTest, SphereAgainstItselfAndALargerSphere) {
   EXPECT_EQ(off.completeness[0].fraction, 0.0);  // within 5 mm
   EXPECT_EQ(off.completeness[1].fraction, 1.0);  // within 15 mm
 
-  // Deterministic for a seed.
+  // Deterministic for a seed, and one prepared truth serves several models with the figures
+  // of a truth prepared per call.
   EXPECT_EQ(EvaluateModel(sphere, larger, larger_normals, options).accuracy_m, off.accuracy_m);
+  const TruthSurface shared(larger, larger_normals, 0.0, 2);
+  EXPECT_EQ(shared.spacing(), off.truth_spacing);
+  const TriangleMesh coarser = Icosphere(kCentre, radius, 3);
+  for (const TriangleMesh* mesh : {&sphere, &coarser}) {
+    const ModelEvaluation once = EvaluateModel(*mesh, larger, larger_normals, options);
+    const ModelEvaluation reused = EvaluateModel(*mesh, shared, options);
+    EXPECT_EQ(reused.accuracy_m, once.accuracy_m);
+    EXPECT_EQ(reused.mean_distance_m, once.mean_distance_m);
+    EXPECT_EQ(reused.completeness[0].fraction, once.completeness[0].fraction);
+    EXPECT_EQ(reused.completeness[1].fraction, once.completeness[1].fraction);
+  }
   ModelEvaluationOptions bad;
   std::string reason;
   EXPECT_FALSE(bad.IsValid(&reason));
