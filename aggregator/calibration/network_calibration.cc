@@ -81,9 +81,11 @@ class MetricRefinement {
 
   // Euclidean bundle adjustment on `graph`'s correspondences: first on a sample (the
   // cameras may still be far off), then on at most final_tracks_per_link of each link.
-  void Adjust(const ViewGraph& graph, MetricScene* scene, const std::string& stage) {
+  // Returns the last adjustment's rms reprojection error (px).
+  double Adjust(const ViewGraph& graph, MetricScene* scene, const std::string& stage) {
     AdjustOn(graph, scene, stage + " (sample)", options_.projective.tracks_per_link);
     AdjustOn(graph, scene, stage, options_.final_tracks_per_link);
+    return last_rms_px_;
   }
 
  private:
@@ -166,6 +168,7 @@ class MetricRefinement {
   int Held(int radial_terms) const { return hold_k2_ ? std::min(radial_terms, 1) : radial_terms; }
 
   void Record(const std::string& name, const BundleSummary& s, const std::string& detail) {
+    last_rms_px_ = s.rms_px;
     out_->stages.push_back(
         {name, s.rms_px, s.seconds,
          fmt::format("{} observations, median {:.3f} px, {} iterations{}{}", s.observations,
@@ -177,6 +180,7 @@ class MetricRefinement {
   NetworkCalibration* out_;
   bool distortion_started_ = false;
   bool hold_k2_ = false;
+  double last_rms_px_ = 0.0;
 };
 
 // The view graph of every calibrated pair, matched afresh under the calibration.
@@ -427,13 +431,20 @@ std::optional<MetricStart> FocalSearchStart(const std::vector<CameraModel>& came
                      std::move(chain.added_by), std::move(chain.reasons), true};
 }
 
-// Takes `metric` to the calibration in `out`: bundle adjustment, re-matching rounds, gauge,
-// uncertainty, motion and sanity gates, pair checks. Returns how many cameras the sanity
-// gates rejected.
-size_t RefineFromStart(MetricStart metric, const std::vector<CameraModel>& cameras,
-                       const std::vector<SilhouetteSequence>* sequences,
-                       const CalibrationOptions& options, Progress* progress,
-                       NetworkCalibration* out) {
+// What RefineFromStart left to judge its start by.
+struct RefinementOutcome {
+  size_t rejected = 0;    // cameras the sanity gates rejected
+  bool diverged = false;  // a re-matching round diverged (and was discarded)
+};
+
+// Takes `metric` to the calibration in `out`: bundle adjustment, re-matching rounds (a round
+// that diverges discarded, and the rounds stopped), gauge, uncertainty, motion and sanity
+// gates, pair checks.
+RefinementOutcome RefineFromStart(MetricStart metric, const std::vector<CameraModel>& cameras,
+                                  const std::vector<SilhouetteSequence>* sequences,
+                                  const CalibrationOptions& options, Progress* progress,
+                                  NetworkCalibration* out) {
+  RefinementOutcome outcome;
   const size_t n = cameras.size();
   for (size_t c = 0; c < n; ++c) {
     out->placement[c].added_by = metric.added_by[c];
@@ -481,6 +492,7 @@ size_t RefineFromStart(MetricStart metric, const std::vector<CameraModel>& camer
     used[p] = link != nullptr && metric.scene.present[link->i] && metric.scene.present[link->j];
   }
   if (sequences != nullptr) {
+    double previous_rms = 0.0;  // the last kept re-matched round's rms, 0 before the first
     for (int round = 0; round < most_rounds && !(progress && progress->cancelled()); ++round) {
       // After a focal length search the principal points were held at the image centres
       // while the cameras settled; the last round estimates them where the data hold them.
@@ -507,16 +519,27 @@ size_t RefineFromStart(MetricStart metric, const std::vector<CameraModel>& camer
       const ViewGraph rematched = RematchedGraph(metric.scene, undistorted, out->sync);
       spdlog::info("re-matched frontier points of {} pairs ({:.1f} s)", rematched.links().size(),
                    SecondsSince(start));
-      const std::vector<CameraModel> before = metric.scene.cameras;
-      refine.Adjust(rematched, &metric.scene,
-                    fmt::format("re-matched bundle adjustment {}", round + 1));
+      MetricScene before = metric.scene;
+      const double rms = refine.Adjust(rematched, &metric.scene,
+                                       fmt::format("re-matched bundle adjustment {}", round + 1));
+      if (previous_rms > 0.0 && !(rms <= options.rematch_diverged_factor * previous_rms)) {
+        metric.scene = std::move(before);
+        outcome.diverged = true;
+        const std::string verdict = fmt::format(
+            "stopped: round {} diverged (rms {:.3f} -> {:.3f} px), its result discarded", round + 1,
+            previous_rms, rms);
+        spdlog::warn("re-matching {}", verdict);
+        out->stages.push_back({"re-matching", 0.0, 0.0, verdict});
+        break;
+      }
+      previous_rms = rms;
       for (size_t p = 0; p < metric.pairs.size(); ++p) {
         used[p] =
             used[p] || rematched.Find(CameraIndex(cameras, metric.pairs[p].camera_i),
                                       CameraIndex(cameras, metric.pairs[p].camera_j)) != nullptr;
       }
       if (progress) progress->Advance();
-      const double turned = LargestRotationChange(before, metric.scene);
+      const double turned = LargestRotationChange(before.cameras, metric.scene);
       const bool settled = turned < refine_options.rematch_settled_deg;
       if (round + 1 < refine_options.rematch_rounds) continue;
       if (!settled && round + 1 < most_rounds) continue;
@@ -532,13 +555,14 @@ size_t RefineFromStart(MetricStart metric, const std::vector<CameraModel>& camer
   FillResult(metric.scene, out->sync, out);
   AddUncertainty(metric.scene, uncertainty_model, refine_options.bundle, options.uncertainty, out);
   RejectCamerasWithoutMotion(out);
-  const size_t rejected = ApplyCalibrationGates(options.gates, out);
-  if (rejected > 0) {
-    out->stages.push_back({"sanity gates", 0.0, 0.0,
-                           fmt::format("{} cameras rejected (see their reasons)", rejected)});
+  outcome.rejected = ApplyCalibrationGates(options.gates, out);
+  if (outcome.rejected > 0) {
+    out->stages.push_back(
+        {"sanity gates", 0.0, 0.0,
+         fmt::format("{} cameras rejected (see their reasons)", outcome.rejected)});
   }
   out->pairs = CheckPairs(out->cameras, out->placement, metric.pairs, used, options.corrected_px);
-  return rejected;
+  return outcome;
 }
 
 }  // namespace
@@ -552,6 +576,8 @@ std::string CalibrationOptions::Validate() const {
     return "the most re-matching rounds must not be fewer than the least";
   if (!(rematch_settled_deg >= 0.0))
     return "the rotation change that settles re-matching must not be negative";
+  if (!(rematch_diverged_factor > 1.0))
+    return "the rms growth that marks a diverged re-matching round must exceed 1";
   if (!(distortion_gain > 0.0 && distortion_gain < 1.0))
     return "distortion_gain must lie between 0 and 1";
   if (!(free_principal_max_sigma_px >= 0.0))
@@ -698,17 +724,22 @@ NetworkCalibration CalibrateNetwork(const std::vector<CameraModel>& cameras,
                            std::vector<bool>(pairs.size(), false), options.corrected_px);
     return out;
   }
-  // A self-calibrated start that leaves cameras failing the sanity gates (from distorted
-  // silhouettes the linear upgrade can come out plausible enough to start from, and wrong):
-  // the focal length search gives a second start, and the result with more cameras
-  // calibrated, then the smaller reprojection error, is kept.
+  // A self-calibrated start that leaves cameras failing the sanity gates or whose re-matching
+  // diverged (from distorted silhouettes the linear upgrade can come out plausible enough to
+  // start from, and wrong): the focal length search gives a second start, and the result with
+  // more cameras calibrated, then the smaller reprojection error, is kept.
   const bool self_calibrated = !metric->focal_searched && !options.known_intrinsics;
   NetworkCalibration second = self_calibrated ? out : NetworkCalibration{};
-  const size_t rejected =
+  const RefinementOutcome first =
       RefineFromStart(std::move(*metric), cameras, sequences, options, progress, &out);
-  if (self_calibrated && rejected > 0 && !(progress && progress->cancelled())) {
-    const std::string why =
-        fmt::format("the self-calibrated start left {} cameras failing the sanity gates", rejected);
+  if (self_calibrated && (first.rejected > 0 || first.diverged) &&
+      !(progress && progress->cancelled())) {
+    std::string why = "the self-calibrated start";
+    if (first.diverged) why += "'s re-matching diverged";
+    if (first.rejected > 0) {
+      why += fmt::format("{} left {} cameras failing the sanity gates",
+                         first.diverged ? " and it" : "", first.rejected);
+    }
     spdlog::info("{}: starting again from a focal length search", why);
     std::optional<MetricStart> retry = FocalSearchStart(cameras, ids, pairs, options, &second);
     if (retry) RefineFromStart(std::move(*retry), cameras, sequences, options, progress, &second);

@@ -53,6 +53,11 @@ struct CalibrationOptions {
   int rematch_rounds = 1;
   int max_rematch_rounds = 4;
   double rematch_settled_deg = 0.02;
+  // A re-matching round after the first whose adjustment ends with an rms reprojection error
+  // above rematch_diverged_factor times the previous round's has diverged: its result is
+  // discarded and re-matching stops (consecutive rounds differ by a few per cent; Utrecht's
+  // diverging self-calibrated start of seed 7 went 1.1 -> 35 -> 3e7 px).
+  double rematch_diverged_factor = 2.0;
   // With intrinsics.radial_terms 0 and unknown intrinsics: the first Euclidean adjustment is
   // tried again with k1 and k2, and they are estimated from then on if they bring the rms
   // reprojection error down by more than distortion_gain (a share of it). Lenses without

@@ -233,17 +233,25 @@ TEST(RealCaptureCalibration, UtrechtWithCheckerboardIntrinsicsWhateverTheSeed) {
 // 2-4 left 2 of 6 pairs failed and calibrated no camera at all (seeds 1, 5, 6 all four).
 TEST(RealCaptureCalibration, UtrechtWithoutAnyCalibration) {
   SILNET_REQUIRE_REAL_DATA(kUtrecht);
-  // Seed 7's self-calibrated start diverges in the adjustment (every camera fails the sanity
-  // gates); the focal length search then gives the second start that calibrates all four.
+  // Seed 7's self-calibrated start diverges in its second re-matching round (rms 1.1 -> 35 px,
+  // then 3e7 px had the rounds gone on): the round is discarded, the rounds stop, and the
+  // focal length search gives the second start that calibrates all four (the first's cameras
+  // fail the sanity gates anyway). The other seeds' rounds never grow the error.
   for (const uint64_t seed : {3u, 4u, 7u}) {
     SCOPED_TRACE(::testing::Message() << "seed " << seed);
     testing::TempDir dir;
     const CalibrateJobResult result = CalibrateUtrecht(false, dir, seed);
     const std::vector<CalibrationStage>& stages = result.calibration.stages;
-    const bool second_start =
-        std::any_of(stages.begin(), stages.end(),
-                    [](const CalibrationStage& s) { return s.name == "second start"; });
-    EXPECT_EQ(second_start, seed == 7);
+    const auto second_start =
+        std::find_if(stages.begin(), stages.end(),
+                     [](const CalibrationStage& s) { return s.name == "second start"; });
+    EXPECT_EQ(second_start != stages.end(), seed == 7);
+    if (second_start != stages.end()) {
+      EXPECT_NE(second_start->detail.find("re-matching diverged"), std::string::npos)
+          << second_start->detail;
+    }
+    for (const CalibrationStage& s : stages)
+      EXPECT_EQ(s.detail.find("diverged (rms"), std::string::npos) << s.detail;
     ASSERT_TRUE(result.errors.has_value());
     const CalibrationErrors& e = *result.errors;
     std::printf("  seed %u: focal %.2f %%, rotation median %.3f deg, max %.3f deg\n",
