@@ -15,6 +15,8 @@
 #include "aggregator/hulls/polyhedral_hull.h"
 #include "aggregator/hulls/real_datasets.h"
 #include "aggregator/hulls/silhouette_interpolation.h"
+#include "aggregator/hulls/viewing_cone_bounds.h"
+#include "aggregator/hulls/viewing_edges.h"
 #include "aggregator/hulls/voxel_hull.h"
 #include "shared/silhouette/foreground_box.h"
 #include "shared/silhouette/silhouette_contour.h"
@@ -200,6 +202,16 @@ BENCHMARK(BM_PolyhedralHullAlienThreads)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The contour options of the exact hull from masks at its defaults.
+ContourOptions HullContourOptions() {
+  const PolyhedralHullOptions defaults;
+  ContourOptions options;
+  options.tolerance_px = defaults.contour_tolerance_px;
+  options.smoothing_passes = defaults.contour_smoothing_passes;
+  options.boundary_offset_px = defaults.contour_offset_px;
+  return options;
+}
+
 // Arg: views. Only the contour extraction of the above (default options), to split its cost.
 void BM_AlienContours(benchmark::State& state) {
   const RealCapture* alien = Alien();
@@ -207,11 +219,7 @@ void BM_AlienContours(benchmark::State& state) {
     state.SkipWithError("no real data beside the project");
     return;
   }
-  const PolyhedralHullOptions defaults;
-  ContourOptions options;
-  options.tolerance_px = defaults.contour_tolerance_px;
-  options.smoothing_passes = defaults.contour_smoothing_passes;
-  options.boundary_offset_px = defaults.contour_offset_px;
+  const ContourOptions options = HullContourOptions();
   size_t points = 0;
   for (auto _ : state) {
     points = 0;
@@ -223,6 +231,36 @@ void BM_AlienContours(benchmark::State& state) {
   state.counters["contour_points"] = static_cast<double>(points);
 }
 BENCHMARK(BM_AlienContours)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
+
+// Arg: views. The viewing edges of the alien's cameras 0..views-1 computed once per contour
+// vertex (aggregator/hulls/viewing_edges.h; issue 20's restructure), one thread, from the
+// contours and cone planes the exact hull builds at its defaults (prepared outside the loop).
+void BM_ViewingEdgesAlien(benchmark::State& state) {
+  const RealCapture* alien = Alien();
+  if (!alien) {
+    state.SkipWithError("no real data beside the project");
+    return;
+  }
+  const auto views = static_cast<size_t>(state.range(0));
+  const std::vector<CameraModel> cameras(alien->cameras.begin(), alien->cameras.begin() + views);
+  const std::vector<cv::Mat> masks(alien->masks.begin(), alien->masks.begin() + views);
+  std::vector<SilhouetteContours> contours;
+  for (const cv::Mat& mask : masks)
+    contours.push_back(ExtractContours(mask, HullContourOptions()));
+  WorldBox box = ComputeViewingConeBounds(cameras, masks).box;
+  const Eigen::Vector3d pad = PolyhedralHullOptions{}.bounds_padding * box.sizes();
+  box.min() -= pad;
+  box.max() += pad;
+  const ConePlaneSet set(cameras, contours, box);
+  size_t edges = 0;
+  for (auto _ : state) {
+    edges = ComputeViewingEdges(cameras, set, box).size();
+    benchmark::DoNotOptimize(edges);
+  }
+  state.counters["rays"] = static_cast<double>(set.Planes().size());
+  state.counters["edges"] = static_cast<double>(edges);
+}
+BENCHMARK(BM_ViewingEdgesAlien)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 
 // The foreground's box of the alien's 8 masks (1900x1600): the margin scan (arg 0) against
 // OpenCV's full scan (arg 1).
