@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "aggregator/hulls/boundary_mesh.h"
+#include "aggregator/hulls/hull_edges.h"
 #include "aggregator/hulls/hull_reprojection.h"
 #include "aggregator/hulls/polyhedral_hull.h"
 #include "aggregator/hulls/real_datasets.h"
@@ -233,8 +234,9 @@ void BM_AlienContours(benchmark::State& state) {
 BENCHMARK(BM_AlienContours)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 
 // Arg: views. The viewing edges of the alien's cameras 0..views-1 computed once per contour
-// vertex (aggregator/hulls/viewing_edges.h; issue 20's restructure), one thread, from the
-// contours and cone planes the exact hull builds at its defaults (prepared outside the loop).
+// vertex and the hull's edges traced from them (aggregator/hulls/viewing_edges.h,
+// hull_edges.h; issue 20's restructure), one thread, from the contours and cone planes the
+// exact hull builds at its defaults (prepared outside the loop).
 void BM_ViewingEdgesAlien(benchmark::State& state) {
   const RealCapture* alien = Alien();
   if (!alien) {
@@ -252,15 +254,29 @@ void BM_ViewingEdgesAlien(benchmark::State& state) {
   box.min() -= pad;
   box.max() += pad;
   const ConePlaneSet set(cameras, contours, box);
-  size_t edges = 0;
+  const bool trace = state.range(1) != 0;
+  size_t edges = 0, vertices = 0;
   for (auto _ : state) {
-    edges = ComputeViewingEdges(cameras, set, box).size();
+    const std::vector<ViewingEdge> viewing = ComputeViewingEdges(cameras, set, box);
+    edges = viewing.size();
+    if (trace) {
+      const HullEdgeGraph graph = TraceHullEdges(cameras, set, box, viewing);
+      edges = graph.edges.size();
+      vertices = graph.vertices.size();
+    }
     benchmark::DoNotOptimize(edges);
   }
   state.counters["rays"] = static_cast<double>(set.Planes().size());
   state.counters["edges"] = static_cast<double>(edges);
+  state.counters["vertices"] = static_cast<double>(vertices);
 }
-BENCHMARK(BM_ViewingEdgesAlien)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
+// Args: views, and whether the edges are traced too.
+BENCHMARK(BM_ViewingEdgesAlien)
+    ->Args({8, 0})
+    ->Args({8, 1})
+    ->Args({16, 0})
+    ->Args({16, 1})
+    ->Unit(benchmark::kMillisecond);
 
 // The foreground's box of the alien's 8 masks (1900x1600): the margin scan (arg 0) against
 // OpenCV's full scan (arg 1).

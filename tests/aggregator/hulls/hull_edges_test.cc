@@ -1,20 +1,26 @@
-// The viewing edges computed once per contour vertex (aggregator/hulls/viewing_edges.h) against
-// the polyhedral hull, which finds the same vertices face by face: every end of a viewing edge
-// is a vertex of the hull on the same three cone faces at the same place, and their numbers
-// agree, on the analytic sphere ring and on EPVH's alien set.
+// The viewing edges computed once per contour vertex (aggregator/hulls/viewing_edges.h) and
+// the edges traced from them (hull_edges.h) against the polyhedral hull, which finds the same
+// vertices face by face: every end of a viewing edge is a vertex of the hull on the same three
+// cone faces at the same place, the traced vertices are exactly the hull's, and the traced
+// edges exactly its mesh edges along two cone faces, on the analytic sphere ring and on EPVH's
+// alien set.
 
-#include "aggregator/hulls/viewing_edges.h"
+#include "aggregator/hulls/hull_edges.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <filesystem>
+#include <iterator>
 #include <map>
+#include <set>
+#include <utility>
 
 #include "aggregator/hulls/polyhedral_hull.h"
 #include "aggregator/hulls/real_datasets.h"
 #include "aggregator/hulls/viewing_cone_bounds.h"
+#include "aggregator/hulls/viewing_edges.h"
 #include "tests/aggregator/hulls/sphere_scene.h"
 #include "tests/support/real_data.h"
 
@@ -29,7 +35,8 @@ PlaneTriple Sorted(int a, int b, int c) {
   return t;
 }
 
-// Checks the viewing edges of `cameras`' silhouettes in `masks` against their polyhedral hull.
+// Checks the viewing edges of `cameras`' silhouettes in `masks`, and the edges traced from
+// them, against their polyhedral hull.
 void ExpectEdgesAreTheHullsOwn(const std::vector<CameraModel>& cameras,
                                const std::vector<cv::Mat>& masks) {
   std::vector<SilhouetteContours> contours;
@@ -89,6 +96,51 @@ void ExpectEdgesAreTheHullsOwn(const std::vector<CameraModel>& cameras,
   std::printf("  %zu views: %zu viewing edges, every end a hull vertex within %.2g (box %.3g)\n",
               cameras.size(), edges.size(), worst, box.sizes().norm());
 
+  // The edges traced from them: the hull's vertices and its edges along two cone faces.
+  const HullEdgeGraph graph = TraceHullEdges(cameras, set, box, edges);
+  EXPECT_EQ(graph.open_ends, 0u);
+  EXPECT_EQ(graph.vertices.size(), hull.stats.viewing_edge_vertices + hull.stats.triple_points);
+  EXPECT_EQ(graph.vertices.size(), hull_vertex.size());
+  double worst_vertex = 0;
+  for (const HullEdgeVertex& vertex : graph.vertices) {
+    const auto found = hull_vertex.find(vertex.planes);
+    if (found == hull_vertex.end()) {
+      ADD_FAILURE() << "traced vertex on planes " << vertex.planes[0] << ", " << vertex.planes[1]
+                    << ", " << vertex.planes[2] << " is not the hull's";
+      continue;
+    }
+    worst_vertex = std::max(
+        worst_vertex,
+        (vertex.position - hull.mesh.vertices[static_cast<size_t>(found->second)].cast<double>())
+            .norm());
+  }
+  EXPECT_LE(worst_vertex, tolerance);
+  // The mesh's edges whose ends share two cone planes are the hull's own (the other mesh
+  // edges cut across a face).
+  std::set<std::pair<PlaneTriple, PlaneTriple>> mesh_edges, traced_edges;
+  for (const auto& triangle : hull.mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const std::vector<int>& p = hull.provenance.vertex_planes[static_cast<size_t>(triangle[k])];
+      const std::vector<int>& q =
+          hull.provenance.vertex_planes[static_cast<size_t>(triangle[(k + 1) % 3])];
+      std::vector<int> shared;
+      std::set_intersection(p.begin(), p.end(), q.begin(), q.end(), std::back_inserter(shared));
+      if (p.size() != 3 || q.size() != 3 || shared.size() != 2) continue;
+      const PlaneTriple u = Sorted(p[0], p[1], p[2]), w = Sorted(q[0], q[1], q[2]);
+      mesh_edges.insert({std::min(u, w), std::max(u, w)});
+    }
+  }
+  for (const HullEdge& edge : graph.edges) {
+    const PlaneTriple& u = graph.vertices[static_cast<size_t>(edge.from)].planes;
+    const PlaneTriple& w = graph.vertices[static_cast<size_t>(edge.to)].planes;
+    traced_edges.insert({std::min(u, w), std::max(u, w)});
+  }
+  EXPECT_EQ(traced_edges.size(), graph.edges.size()) << "an edge traced twice";
+  EXPECT_EQ(traced_edges, mesh_edges);
+  std::printf("  traced %zu lines: %zu vertices, %zu edges (%zu viewing edges), worst %.2g\n",
+              graph.lines, graph.vertices.size(), graph.edges.size(), graph.viewing_edges,
+              worst_vertex);
+
   // The same edges on two threads.
   const std::vector<ViewingEdge> threaded = ComputeViewingEdges(cameras, set, box, 2);
   ASSERT_EQ(threaded.size(), edges.size());
@@ -99,12 +151,12 @@ void ExpectEdgesAreTheHullsOwn(const std::vector<CameraModel>& cameras,
   }
 }
 
-TEST(ViewingEdgesTest, EndsAreTheHullsVerticesOnTheSphereRing) {
+TEST(HullEdgesTest, TheHullsOwnVerticesAndEdgesOnTheSphereRing) {
   const hull_testing::SphereScene scene = hull_testing::MakeSphereScene(0.0, true);
   ExpectEdgesAreTheHullsOwn(scene.cameras, scene.masks);
 }
 
-TEST(ViewingEdgesTest, EndsAreTheHullsVerticesOnEpvhAlien) {
+TEST(HullEdgesTest, TheHullsOwnVerticesAndEdgesOnEpvhAlien) {
   const std::filesystem::path folder =
       std::filesystem::path(SILNET_SHARED_DATA_DIR) / "epvh-alien-24cam";
   SILNET_REQUIRE_REAL_DATA(folder);
@@ -114,7 +166,7 @@ TEST(ViewingEdgesTest, EndsAreTheHullsVerticesOnEpvhAlien) {
 
 // Cones that do not all meet have no viewing edges: the last view sees a sphere 1 m above
 // the one the others see (its cone passes 0.7 m above their intersection).
-TEST(ViewingEdgesTest, NoEdgesWhereTheConesDoNotAllMeet) {
+TEST(HullEdgesTest, NoEdgesWhereTheConesDoNotAllMeet) {
   hull_testing::SphereScene scene = hull_testing::MakeSphereScene(0.0, true);
   scene.masks.back() = hull_testing::SphereMask(
       scene.cameras.back(), hull_testing::SphereCentre() + Eigen::Vector3d(0, 0, 1.0), 0.3);

@@ -1,0 +1,52 @@
+#pragma once
+// The exact hull's edges and vertices traced from its viewing edges (thesis 4.2; EPVH's second
+// step): from each end of a viewing edge, where a contour vertex's ray meets another view's
+// cone face, the hull's edges run along the lines where two cone faces of two views meet.
+// Each such line is computed once, for the pair of faces, as its stretches inside both faces'
+// wedges and every other view's cone (cone_line_stretches.h); their ends are further vertices
+// (triple points, or viewing-edge ends) from which the lines of the next face pairs start,
+// until no new pair is found. Every vertex is named by its three cone planes, so the faces
+// that meet there share it without tolerances.
+//
+// This is issue 20's restructure in progress: the polyhedral hull (polyhedral_hull.h) does
+// not use it yet; the tests compare its vertices and edges with the hull's.
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "aggregator/hulls/cone_plane_set.h"
+#include "aggregator/hulls/viewing_edges.h"
+#include "aggregator/hulls/voxel_grid.h"
+#include "shared/geometry/camera_model.h"
+
+namespace silnet::aggregator {
+
+// A vertex of the hull: where three cone planes meet (their indexes, ascending).
+struct HullEdgeVertex {
+  std::array<int, 3> planes{};
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+};
+
+// An edge of the hull between vertices `from` and `to`, on cone planes `a` < `b` (of one view
+// for a viewing edge, of two views otherwise).
+struct HullEdge {
+  int a = -1, b = -1;
+  int from = -1, to = -1;
+};
+
+// The hull's vertices and edges, and what tracing them cost.
+struct HullEdgeGraph {
+  std::vector<HullEdgeVertex> vertices;
+  std::vector<HullEdge> edges;
+  size_t viewing_edges = 0;  // of `edges`, those along a contour vertex's ray
+  size_t lines = 0;          // lines of two views' faces traced
+  size_t open_ends = 0;      // edge ends the bounds box cut (none for bounds around the hull)
+};
+
+// Traces the hull's edges from `viewing_edges` (ComputeViewingEdges of the same `cameras`,
+// `set` and `bounds`). Deterministic: vertices and edges in the order they are found.
+HullEdgeGraph TraceHullEdges(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
+                             const WorldBox& bounds, const std::vector<ViewingEdge>& viewing_edges);
+
+}  // namespace silnet::aggregator
