@@ -46,17 +46,14 @@ void FindCrossings(const ConePlaneSet& set, const std::vector<Eigen::Vector3d>& 
 }
 
 // The stretches of `range` inside view `other`'s cone, from the sorted crossings (a line with
-// none is inside throughout or not at all: as at line.inside_at if the range holds it,
-// otherwise one point-in-silhouette test decides).
+// none is inside throughout or not at all: one point-in-silhouette test decides).
 void InsideStretches(const ConePlaneSet& set, const ConeLine& line, int other,
                      const LineStretch& range, ConeLineBuffers* buffers) {
   std::vector<LineStretch>& out = buffers->in_view;
   out.clear();
   const auto& crossings = buffers->crossings;
   bool inside = false;
-  if (crossings.empty() && line.inside_at >= range.lo && line.inside_at <= range.hi) {
-    inside = true;
-  } else if (crossings.empty()) {
+  if (crossings.empty()) {
     const Eigen::Vector3d x =
         set.Projection(other) *
         (line.origin + 0.5 * (range.lo + range.hi) * line.direction).homogeneous();
@@ -140,6 +137,23 @@ void StretchesInsideCones(const ConePlaneSet& set, const std::vector<Eigen::Vect
     InsideStretches(set, line, other, within, buffers);
     Intersect(buffers);
   }
+}
+
+LineStretch FirstExit(const ConePlaneSet& set, const std::vector<Eigen::Vector3d>& centres,
+                      const ConeLine& line, LineStretch range, int skip_a, int skip_b,
+                      int skip_plane, ConeLineBuffers* buffers) {
+  const int views = static_cast<int>(set.Views());
+  for (int other = 0; other < views; ++other) {
+    if (other == skip_a || other == skip_b) continue;
+    FindCrossings(set, centres, line, other, range, buffers);
+    for (const auto& c : buffers->crossings) {
+      if (c.entering || c.plane == skip_plane) continue;
+      range.hi = c.t;
+      range.hi_plane = c.plane;
+      break;
+    }
+  }
+  return range;
 }
 
 }  // namespace silnet::aggregator

@@ -7,7 +7,6 @@
 // of the cone-intersection edges traced from them (hull_edges.h).
 
 #include <Eigen/Core>
-#include <limits>
 #include <optional>
 #include <vector>
 
@@ -25,14 +24,10 @@ struct LineStretch {
 
 // A line lying in a cone face plane of view `seen_from` (or through its camera centre): the
 // index is asked for the other views' faces in the line's epipolar range about that view.
-// `inside_at`, where known, is a parameter at which the line lies inside every cone (a vertex
-// of the hull): a view whose faces the line does not cross around it then holds the line
-// without a point-in-silhouette test.
 struct ConeLine {
   int seen_from = -1;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
-  double inside_at = std::numeric_limits<double>::quiet_NaN();
 };
 
 // `range` of `line` narrowed to the part inside `box` (its end labels kept where the box does
@@ -61,5 +56,14 @@ struct ConeLineBuffers {
 void StretchesInsideCones(const ConePlaneSet& set, const std::vector<Eigen::Vector3d>& centres,
                           const ConeLine& line, const LineStretch& range, int skip_a, int skip_b,
                           ConeLineBuffers* buffers);
+
+// `range` of `line` cut at the first point past range.lo where it leaves the cone of a view
+// of `set` other than `skip_a` and `skip_b`, when range.lo lies inside all of them (a vertex
+// of the hull the line leaves it from): there the range ends and `hi_plane` is the face
+// crossed. Crossings of plane `skip_plane` (the one the line leaves the vertex through) are
+// not counted.
+LineStretch FirstExit(const ConePlaneSet& set, const std::vector<Eigen::Vector3d>& centres,
+                      const ConeLine& line, LineStretch range, int skip_a, int skip_b,
+                      int skip_plane, ConeLineBuffers* buffers);
 
 }  // namespace silnet::aggregator

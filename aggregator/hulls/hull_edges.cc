@@ -1,11 +1,10 @@
 #include "aggregator/hulls/hull_edges.h"
 
 #include <algorithm>
-#include <deque>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <optional>
-#include <set>
 #include <utility>
 
 #include "aggregator/hulls/cone_line_stretches.h"
@@ -22,34 +21,49 @@ PlaneTriple Sorted(int a, int b, int c) {
   return t;
 }
 
-// Narrows `range` to where f0 + t f1 >= 0, naming `label` the plane that bounds it there;
-// false if nothing is left.
-bool Narrow(double f0, double f1, int label, LineStretch* range) {
-  if (f1 == 0.0) return f0 >= 0.0;
-  const double t = -f0 / f1;
-  if (f1 > 0.0 && t > range->lo) {
-    range->lo = t;
-    range->lo_plane = label;
-  } else if (f1 < 0.0 && t < range->hi) {
-    range->hi = t;
-    range->hi_plane = label;
-  }
-  return range->hi > range->lo;
+// The rate at which the line along `direction` through plane `plane`'s face moves into the
+// side of `bound` that the face keeps, where `bound` is the plane before or after it (the
+// wedge's edge rays through the face's contour points) or a face of another view (inside its
+// cone): positive if the face lies ahead along `direction`.
+double RateInto(const ConePlaneSet& set, int plane, int bound, const Eigen::Vector3d& direction) {
+  const ConePlane& face = set.Plane(plane);
+  const Eigen::Vector3d& normal = set.Normal(plane);
+  if (bound == face.prev) return set.Ray(face.view, face.p).cross(direction).dot(normal);
+  if (bound == face.next) return direction.cross(set.Ray(face.view, face.q)).dot(normal);
+  return set.Normal(bound).dot(direction);
 }
 
-// Narrows `range` of `line` (in cone plane `plane`) to the plane's face: the wedge between the
-// rays through its contour points, bounded there by the planes before and after it.
-bool NarrowToFace(const ConePlaneSet& set, const Eigen::Vector3d& centre, int plane,
-                  const ConeLine& line, LineStretch* range) {
+// Where the line origin + t direction (t >= 0) leaves plane `plane`'s face through the rays
+// of its contour points: range.hi narrowed, `hi_plane` the plane beyond that ray.
+void NarrowToFace(const ConePlaneSet& set, const Eigen::Vector3d& centre, int plane,
+                  const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                  LineStretch* range) {
   const ConePlane& face = set.Plane(plane);
   const Eigen::Vector3d& normal = set.Normal(plane);
   const Eigen::Vector3d rp = set.Ray(face.view, face.p), rq = set.Ray(face.view, face.q);
-  const Eigen::Vector3d offset = line.origin - centre;
+  const Eigen::Vector3d offset = origin - centre;
   // Inside the wedge: (rp x X) . n >= 0 and (X x rq) . n >= 0 for X = offset + t direction.
-  return Narrow(rp.cross(offset).dot(normal), rp.cross(line.direction).dot(normal), face.prev,
-                range) &&
-         Narrow(offset.cross(rq).dot(normal), line.direction.cross(rq).dot(normal), face.next,
-                range);
+  const std::array<std::array<double, 2>, 2> bounds = {
+      {{rp.cross(offset).dot(normal), rp.cross(direction).dot(normal)},
+       {offset.cross(rq).dot(normal), direction.cross(rq).dot(normal)}}};
+  const std::array<int, 2> labels = {face.prev, face.next};
+  for (int k = 0; k < 2; ++k) {
+    const auto [f0, f1] = bounds[static_cast<size_t>(k)];
+    if (!(f1 < 0.0)) continue;
+    const double t = std::max(0.0, -f0 / f1);
+    if (t < range->hi) {
+      range->hi = t;
+      range->hi_plane = labels[static_cast<size_t>(k)];
+    }
+  }
+}
+
+// The position of a plane pair among a vertex's three (sorted) planes: 0 for the first two,
+// 1 for the first and last, 2 for the last two.
+int PairSlot(const PlaneTriple& planes, int a, int b) {
+  if (a == planes[0] && b == planes[1]) return 0;
+  if (a == planes[0] && b == planes[2]) return 1;
+  return 2;
 }
 
 class EdgeTracer {
@@ -68,24 +82,31 @@ class EdgeTracer {
     const int from = End(previous, edge.plane, edge.near_plane, centre + edge.near * direction);
     const int to = End(previous, edge.plane, edge.far_plane, centre + edge.far * direction);
     if (from < 0 || to < 0) return;
-    graph_.edges.push_back(
-        {std::min(previous, edge.plane), std::max(previous, edge.plane), from, to});
+    const int a = std::min(previous, edge.plane), b = std::max(previous, edge.plane);
+    MarkDone(from, a, b);
+    MarkDone(to, a, b);
+    graph_.edges.push_back({a, b, from, to});
     ++graph_.viewing_edges;
   }
 
-  // Traces every queued line and the lines their ends lead to.
+  // Traces the edges that leave every vertex found, until no vertex is new.
   HullEdgeGraph Finish() {
-    while (!queue_.empty()) {
-      const auto [a, b, vertex] = queue_.front();
-      queue_.pop_front();
-      TraceLine(a, b, graph_.vertices[static_cast<size_t>(vertex)].position);
+    for (size_t v = 0; v < graph_.vertices.size(); ++v) {
+      const PlaneTriple planes = graph_.vertices[v].planes;
+      for (const auto& [a, b, c] : {PlaneTriple{planes[0], planes[1], planes[2]},
+                                    PlaneTriple{planes[0], planes[2], planes[1]},
+                                    PlaneTriple{planes[1], planes[2], planes[0]}}) {
+        if (set_.Plane(a).view == set_.Plane(b).view) continue;
+        if (done_[v] & (1u << PairSlot(planes, a, b))) continue;
+        TraceEdge(static_cast<int>(v), a, b, c);
+      }
     }
     return std::move(graph_);
   }
 
  private:
-  // The vertex on planes a, b, c at `position` (found before or added now), and the lines of
-  // two views' faces that leave it queued; -1 for an end the bounds box cut (c = -1).
+  // The vertex on planes a, b, c at `position` (found before or added now); -1 for an end the
+  // bounds box cut (c = -1).
   int End(int a, int b, int c, const Eigen::Vector3d& position) {
     if (c < 0) {
       ++graph_.open_ends;
@@ -95,48 +116,40 @@ class EdgeTracer {
     const auto [it, added] = vertex_.try_emplace(key, static_cast<int>(graph_.vertices.size()));
     if (added) {
       graph_.vertices.push_back({key, position});
-      Queue(key[0], key[1], it->second);
-      Queue(key[0], key[2], it->second);
-      Queue(key[1], key[2], it->second);
+      done_.push_back(0);
     }
     return it->second;
   }
 
-  // Queues the line of planes a < b through `vertex` if they belong to two views and it is new.
-  void Queue(int a, int b, int vertex) {
-    if (set_.Plane(a).view == set_.Plane(b).view) return;
-    if (lines_.insert({a, b}).second) queue_.push_back({a, b, vertex});
+  void MarkDone(int vertex, int a, int b) {
+    done_[static_cast<size_t>(vertex)] |=
+        static_cast<uint8_t>(1u << PairSlot(graph_.vertices[static_cast<size_t>(vertex)].planes,
+                                            std::min(a, b), std::max(a, b)));
   }
 
-  // The hull's edges on the line where the faces of planes a and b meet, which passes through
-  // the hull's vertex at `through`.
-  void TraceLine(int a, int b, const Eigen::Vector3d& through) {
-    ++graph_.lines;
+  // The edge that leaves vertex `from` (on planes a < b and c) along the line of planes a and
+  // b, on the side that plane c keeps, up to the next vertex.
+  void TraceEdge(int from, int a, int b, int c) {
+    ++graph_.traced;
+    MarkDone(from, a, b);
     const int view_a = set_.Plane(a).view, view_b = set_.Plane(b).view;
-    const Eigen::Vector3d& na = set_.Normal(a);
-    const Eigen::Vector3d& nb = set_.Normal(b);
-    const Eigen::Vector3d& ca = centres_[static_cast<size_t>(view_a)];
-    const Eigen::Vector3d& cb = centres_[static_cast<size_t>(view_b)];
-    const Eigen::Vector3d direction = na.cross(nb);
-    const double length2 = direction.squaredNorm();
-    if (!(length2 > 0.0)) return;
-    // The point of both planes nearest the origin.
-    const Eigen::Vector3d origin =
-        (na.dot(ca) * nb.cross(direction) + nb.dot(cb) * direction.cross(na)) / length2;
-    const ConeLine line{view_a, origin, direction, (through - origin).dot(direction) / length2};
-    LineStretch range{-std::numeric_limits<double>::infinity(),
-                      std::numeric_limits<double>::infinity()};
-    if (!NarrowToFace(set_, ca, a, line, &range) || !NarrowToFace(set_, cb, b, line, &range))
-      return;
+    Eigen::Vector3d direction = set_.Normal(a).cross(set_.Normal(b));
+    if (!(direction.squaredNorm() > 0.0)) return;
+    const int c_view = set_.Plane(c).view;
+    const double rate = RateInto(set_, c_view == view_b ? b : a, c, direction);
+    if (rate < 0.0) direction = -direction;
+    const Eigen::Vector3d origin = graph_.vertices[static_cast<size_t>(from)].position;
+    const ConeLine line{view_a, origin, direction};
+    LineStretch range{0.0, std::numeric_limits<double>::infinity(), c, -1};
+    NarrowToFace(set_, centres_[static_cast<size_t>(view_a)], a, origin, direction, &range);
+    NarrowToFace(set_, centres_[static_cast<size_t>(view_b)], b, origin, direction, &range);
     const std::optional<LineStretch> boxed = ClipToBox(line, bounds_, range);
     if (!boxed) return;
-    StretchesInsideCones(set_, centres_, line, *boxed, view_a, view_b, &buffers_);
-    const std::vector<LineStretch> stretches = buffers_.inside;
-    for (const LineStretch& s : stretches) {
-      const int from = End(a, b, s.lo_plane, origin + s.lo * direction);
-      const int to = End(a, b, s.hi_plane, origin + s.hi * direction);
-      if (from >= 0 && to >= 0) graph_.edges.push_back({a, b, from, to});
-    }
+    const LineStretch edge = FirstExit(set_, centres_, line, *boxed, view_a, view_b, c, &buffers_);
+    const int to = End(a, b, edge.hi_plane, origin + edge.hi * direction);
+    if (to < 0) return;
+    MarkDone(to, a, b);
+    graph_.edges.push_back({a, b, from, to});
   }
 
   const ConePlaneSet& set_;
@@ -144,8 +157,7 @@ class EdgeTracer {
   std::vector<Eigen::Vector3d> centres_;
   HullEdgeGraph graph_;
   std::map<PlaneTriple, int> vertex_;
-  std::set<std::pair<int, int>> lines_;
-  std::deque<std::array<int, 3>> queue_;  // planes a < b and the vertex that queued them
+  std::vector<uint8_t> done_;  // per vertex, the plane pairs whose edge is known (PairSlot bits)
   ConeLineBuffers buffers_;
 };
 

@@ -1,12 +1,12 @@
 #pragma once
 // The exact hull's edges and vertices traced from its viewing edges (thesis 4.2; EPVH's second
-// step): from each end of a viewing edge, where a contour vertex's ray meets another view's
-// cone face, the hull's edges run along the lines where two cone faces of two views meet.
-// Each such line is computed once, for the pair of faces, as its stretches inside both faces'
-// wedges and every other view's cone (cone_line_stretches.h); their ends are further vertices
-// (triple points, or viewing-edge ends) from which the lines of the next face pairs start,
-// until no new pair is found. Every vertex is named by its three cone planes, so the faces
-// that meet there share it without tolerances.
+// step). Every vertex of the hull lies on three cone faces and, in generic position, has one
+// edge along each pair of them that belongs to two views (the pair of one view is its viewing
+// edge). From each vertex found, starting with the viewing edges' ends, each such edge is
+// followed along the line where the two faces meet, away from the third face, up to the first
+// point where it leaves either face's wedge or another view's cone (cone_line_stretches.h):
+// the next vertex. Each edge is traced once, from whichever end is found first. Every vertex
+// is named by its three cone planes, so the faces that meet there share it without tolerances.
 //
 // This is issue 20's restructure in progress: the polyhedral hull (polyhedral_hull.h) does
 // not use it yet; the tests compare its vertices and edges with the hull's.
@@ -40,7 +40,7 @@ struct HullEdgeGraph {
   std::vector<HullEdgeVertex> vertices;
   std::vector<HullEdge> edges;
   size_t viewing_edges = 0;  // of `edges`, those along a contour vertex's ray
-  size_t lines = 0;          // lines of two views' faces traced
+  size_t traced = 0;         // edges of two views' faces traced (the others are viewing edges)
   size_t open_ends = 0;      // edge ends the bounds box cut (none for bounds around the hull)
 };
 

@@ -137,8 +137,8 @@ void ExpectEdgesAreTheHullsOwn(const std::vector<CameraModel>& cameras,
   }
   EXPECT_EQ(traced_edges.size(), graph.edges.size()) << "an edge traced twice";
   EXPECT_EQ(traced_edges, mesh_edges);
-  std::printf("  traced %zu lines: %zu vertices, %zu edges (%zu viewing edges), worst %.2g\n",
-              graph.lines, graph.vertices.size(), graph.edges.size(), graph.viewing_edges,
+  std::printf("  traced %zu edges: %zu vertices, %zu edges (%zu viewing edges), worst %.2g\n",
+              graph.traced, graph.vertices.size(), graph.edges.size(), graph.viewing_edges,
               worst_vertex);
 
   // The same edges on two threads.
