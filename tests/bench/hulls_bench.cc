@@ -16,6 +16,7 @@
 #include "aggregator/hulls/polyhedral_hull.h"
 #include "aggregator/hulls/real_datasets.h"
 #include "aggregator/hulls/silhouette_interpolation.h"
+#include "aggregator/hulls/traced_hull_mesh.h"
 #include "aggregator/hulls/viewing_cone_bounds.h"
 #include "aggregator/hulls/viewing_edges.h"
 #include "aggregator/hulls/voxel_hull.h"
@@ -233,11 +234,12 @@ void BM_AlienContours(benchmark::State& state) {
 }
 BENCHMARK(BM_AlienContours)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 
-// Arg: views. The viewing edges of the alien's cameras 0..views-1 computed once per contour
-// vertex and the hull's edges traced from them (aggregator/hulls/viewing_edges.h,
-// hull_edges.h; issue 20's restructure), one thread, from the contours and cone planes the
-// exact hull builds at its defaults (prepared outside the loop).
-void BM_ViewingEdgesAlien(benchmark::State& state) {
+// Args: views, stages. The exact hull of the alien's cameras 0..views-1 as issue 20's
+// restructure builds it, one thread, from the contours and cone planes the polyhedral hull
+// builds at its defaults (prepared outside the loop): stage 0 the viewing edges once per
+// contour vertex (aggregator/hulls/viewing_edges.h), 1 also the edges traced from them
+// (hull_edges.h), 2 also the mesh of the faces' loops (traced_hull_mesh.h).
+void BM_TracedHullAlien(benchmark::State& state) {
   const RealCapture* alien = Alien();
   if (!alien) {
     state.SkipWithError("no real data beside the project");
@@ -254,29 +256,29 @@ void BM_ViewingEdgesAlien(benchmark::State& state) {
   box.min() -= pad;
   box.max() += pad;
   const ConePlaneSet set(cameras, contours, box);
-  const bool trace = state.range(1) != 0;
-  size_t edges = 0, vertices = 0;
+  const int64_t stages = state.range(1);
+  size_t edges = 0, vertices = 0, triangles = 0;
   for (auto _ : state) {
     const std::vector<ViewingEdge> viewing = ComputeViewingEdges(cameras, set, box);
     edges = viewing.size();
-    if (trace) {
+    if (stages >= 1) {
       const HullEdgeGraph graph = TraceHullEdges(cameras, set, box, viewing);
       edges = graph.edges.size();
       vertices = graph.vertices.size();
+      if (stages >= 2) {
+        const TracedHullMesh mesh = AssembleTracedHull(set, graph);
+        if (!mesh.success) state.SkipWithError(mesh.reason.c_str());
+        triangles = mesh.mesh.triangles.size();
+      }
     }
     benchmark::DoNotOptimize(edges);
   }
   state.counters["rays"] = static_cast<double>(set.Planes().size());
   state.counters["edges"] = static_cast<double>(edges);
   state.counters["vertices"] = static_cast<double>(vertices);
+  state.counters["triangles"] = static_cast<double>(triangles);
 }
-// Args: views, and whether the edges are traced too.
-BENCHMARK(BM_ViewingEdgesAlien)
-    ->Args({8, 0})
-    ->Args({8, 1})
-    ->Args({16, 0})
-    ->Args({16, 1})
-    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TracedHullAlien)->ArgsProduct({{8, 16}, {0, 1, 2}})->Unit(benchmark::kMillisecond);
 
 // The foreground's box of the alien's 8 masks (1900x1600): the margin scan (arg 0) against
 // OpenCV's full scan (arg 1).

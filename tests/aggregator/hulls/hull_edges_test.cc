@@ -17,8 +17,11 @@
 #include <set>
 #include <utility>
 
+#include "aggregator/hulls/mesh_check.h"
+#include "aggregator/hulls/mesh_measure.h"
 #include "aggregator/hulls/polyhedral_hull.h"
 #include "aggregator/hulls/real_datasets.h"
+#include "aggregator/hulls/traced_hull_mesh.h"
 #include "aggregator/hulls/viewing_cone_bounds.h"
 #include "aggregator/hulls/viewing_edges.h"
 #include "tests/aggregator/hulls/sphere_scene.h"
@@ -140,6 +143,19 @@ void ExpectEdgesAreTheHullsOwn(const std::vector<CameraModel>& cameras,
   std::printf("  traced %zu edges: %zu vertices, %zu edges (%zu viewing edges), worst %.2g\n",
               graph.traced, graph.vertices.size(), graph.edges.size(), graph.viewing_edges,
               worst_vertex);
+
+  // Their faces' loops triangulated: the hull's solid, closed, with as many triangles.
+  const TracedHullMesh traced = AssembleTracedHull(set, graph);
+  ASSERT_TRUE(traced.success) << traced.reason;
+  const MeshCheck check = CheckClosedManifold(traced.mesh);
+  EXPECT_TRUE(check.closed_manifold) << check.reason;
+  EXPECT_EQ(traced.mesh.triangles.size(), hull.mesh.triangles.size());
+  EXPECT_EQ(traced.faces, hull.stats.hull_faces);
+  const double volume = MeshVolume(hull.mesh);
+  EXPECT_NEAR(MeshVolume(traced.mesh), volume, 1e-6 * volume);
+  std::printf("  assembled: %zu faces, %zu loops, %zu triangles, volume %.6g (hull %.6g)\n",
+              traced.faces, traced.loops, traced.mesh.triangles.size(), MeshVolume(traced.mesh),
+              volume);
 
   // The same edges on two threads.
   const std::vector<ViewingEdge> threaded = ComputeViewingEdges(cameras, set, box, 2);
