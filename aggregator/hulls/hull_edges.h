@@ -8,8 +8,8 @@
 // the next vertex. Each edge is traced once, from whichever end is found first. Every vertex
 // is named by its three cone planes, so the faces that meet there share it without tolerances.
 //
-// This is issue 20's restructure in progress: the polyhedral hull (polyhedral_hull.h) does
-// not use it yet; the tests compare its vertices and edges with the hull's.
+// The polyhedral hull (polyhedral_hull.h) builds its mesh from these (traced_hull_mesh.h);
+// the tests compare them with the vertices and edges of its face-by-face sweeps.
 
 #include <Eigen/Core>
 #include <array>

@@ -9,9 +9,12 @@
 #include "aggregator/hulls/coincident_cameras.h"
 #include "aggregator/hulls/cone_face_region.h"
 #include "aggregator/hulls/face_assembly.h"
+#include "aggregator/hulls/hull_edges.h"
 #include "aggregator/hulls/in_plane_gap_filler.h"
 #include "aggregator/hulls/mesh_check.h"
+#include "aggregator/hulls/traced_hull_mesh.h"
 #include "aggregator/hulls/viewing_cone_bounds.h"
+#include "aggregator/hulls/viewing_edges.h"
 #include "shared/util/parallel_for.h"
 
 namespace silnet::aggregator {
@@ -170,6 +173,36 @@ HullAssembly AssembleHull(const ConePlaneSet& set, const std::vector<FaceRegion>
   return assembly;
 }
 
+// The hull from its edges traced once from the viewing edges; `closed` false where the mesh
+// is empty (no viewing edge: the sweeps decide) or not a closed manifold.
+HullAssembly TracedHull(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
+                        const WorldBox& bounds, const PolyhedralHullOptions& options) {
+  HullAssembly assembly;
+  const std::vector<ViewingEdge> viewing =
+      ComputeViewingEdges(cameras, set, bounds, options.threads);
+  const HullEdgeGraph graph = TraceHullEdges(cameras, set, bounds, viewing);
+  TracedHullMesh traced = AssembleTracedHull(set, graph);
+  if (!traced.success || graph.open_ends > 0 || traced.mesh.triangles.empty()) return assembly;
+  if (!CheckClosedManifold(traced.mesh).closed_manifold) return assembly;
+  PolyhedralHullResult& result = assembly.result;
+  result.mesh = std::move(traced.mesh);
+  result.stats.cone_faces = set.Planes().size();
+  result.stats.hull_faces = traced.faces;
+  result.stats.viewing_edge_vertices = 2 * viewing.size();
+  result.stats.triple_points = graph.vertices.size() - 2 * viewing.size();
+  result.stats.traced_edges = true;
+  if (options.keep_provenance) {
+    result.provenance.planes = set.Planes();
+    result.provenance.view_cameras.resize(set.Views());
+    for (size_t v = 0; v < set.Views(); ++v)
+      result.provenance.view_cameras[v] = static_cast<int>(v);
+    for (const HullEdgeVertex& vertex : graph.vertices)
+      result.provenance.vertex_planes.emplace_back(vertex.planes.begin(), vertex.planes.end());
+  }
+  assembly.closed = true;
+  return assembly;
+}
+
 // `result` with success set: a non-empty closed mesh.
 PolyhedralHullResult Finished(PolyhedralHullResult result) {
   if (result.mesh.triangles.empty()) {
@@ -224,6 +257,10 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     return result;
   }
   const ConePlaneSet set(cameras, contours, bounds, 0, options.threads);
+  if (options.trace_edges && options.faces_as_polygons) {
+    HullAssembly traced = TracedHull(cameras, set, bounds, options);
+    if (traced.closed) return Finished(std::move(traced.result));
+  }
   std::vector<FaceRegion> regions;
   if (!ComputeFaceRegions(cameras, set, bounds, options.threads, &regions, &result.reason))
     return result;

@@ -5,8 +5,8 @@
 // without extra points (loop_triangulation.h). Neighbouring faces share their edges' vertices
 // by construction, so the mesh is closed when the graph is complete.
 //
-// Issue 20's restructure in progress: the polyhedral hull (polyhedral_hull.h) does not use it
-// yet; the tests compare its meshes with the hull's.
+// The polyhedral hull's first way to its mesh (polyhedral_hull.h); the tests compare it with
+// the mesh of the face-by-face sweeps.
 
 #include <string>
 

@@ -6,9 +6,9 @@
 // (the sign of the face normal along the ray tells entering from leaving), so no
 // point-in-silhouette test is needed except for a ray that meets no face of a view.
 //
-// The ends of these edges are the hull vertices that the polyhedral hull
-// (polyhedral_hull.h) finds face by face as PolyhedralHullStats::viewing_edge_vertices; this is
-// the part of issue 20's restructure that computes them once for all faces.
+// The ends of these edges are the hull's viewing-edge vertices
+// (PolyhedralHullStats::viewing_edge_vertices), from which its other edges are traced
+// (hull_edges.h).
 
 #include <Eigen/Core>
 #include <vector>

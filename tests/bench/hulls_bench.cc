@@ -100,6 +100,7 @@ void RunPolyhedralHull8Views(benchmark::State& state, const PolyhedralHullOption
   }
   state.counters["triangles"] = static_cast<double>(hull.mesh.triangles.size());
   state.counters["cone_faces"] = static_cast<double>(hull.stats.cone_faces);
+  state.counters["traced"] = hull.stats.traced_edges ? 1 : 0;
   double missed = 0.0, extra = 0.0;
   for (const ViewReprojection& v : MeasureHullReprojection(hull.mesh, frame.cameras, frame.masks)) {
     missed = std::max(missed, v.missed_fraction);
@@ -117,6 +118,15 @@ void BM_PolyhedralHull8Views(benchmark::State& state) {
 }
 BENCHMARK(BM_PolyhedralHull8Views)->Arg(5)->Arg(6)->Arg(10)->Unit(benchmark::kMillisecond);
 
+// The same at the default tolerance with the face-by-face sweeps only (trace_edges off), for
+// comparison in one run.
+void BM_PolyhedralHull8ViewsSweeps(benchmark::State& state) {
+  PolyhedralHullOptions options;
+  options.trace_edges = false;
+  RunPolyhedralHull8Views(state, options);
+}
+BENCHMARK(BM_PolyhedralHull8ViewsSweeps)->Unit(benchmark::kMillisecond);
+
 // With covering contours (PolyhedralHullOptions::contour_cover_pixel_centres).
 void BM_PolyhedralHull8ViewsCovering(benchmark::State& state) {
   PolyhedralHullOptions options;
@@ -125,7 +135,8 @@ void BM_PolyhedralHull8ViewsCovering(benchmark::State& state) {
 }
 BENCHMARK(BM_PolyhedralHull8ViewsCovering)->Unit(benchmark::kMillisecond);
 
-// Arg 0: the INRIA dancer (8 views, 780x582); 1: Tsinghua WD2 (20 views, 1024x768).
+// Args: 0 the INRIA dancer (8 views, 780x582), 1 Tsinghua WD2 (20 views, 1024x768); then 1
+// for the default (edges traced), 0 for the face-by-face sweeps only.
 void BM_PolyhedralHullRealCapture(benchmark::State& state) {
   const std::filesystem::path data = SILNET_SHARED_DATA_DIR;
   const bool wd2 = state.range(0) == 1;
@@ -140,17 +151,22 @@ void BM_PolyhedralHullRealCapture(benchmark::State& state) {
     for (cv::Mat& mask : capture.masks)
       mask = KeepLargestComponent(mask);
   }
+  PolyhedralHullOptions options;
+  options.trace_edges = state.range(1) != 0;
   PolyhedralHullResult hull;
   for (auto _ : state) {
-    hull = ComputePolyhedralHull(capture.cameras, capture.masks);
+    hull = ComputePolyhedralHull(capture.cameras, capture.masks, options);
     if (!hull.success) state.SkipWithError(hull.reason.c_str());
     benchmark::DoNotOptimize(hull.mesh.triangles.size());
   }
   state.counters["triangles"] = static_cast<double>(hull.mesh.triangles.size());
   state.counters["cone_faces"] = static_cast<double>(hull.stats.cone_faces);
   state.counters["gaps_filled"] = static_cast<double>(hull.stats.gaps_filled);
+  state.counters["traced"] = hull.stats.traced_edges ? 1 : 0;
 }
-BENCHMARK(BM_PolyhedralHullRealCapture)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PolyhedralHullRealCapture)
+    ->ArgsProduct({{0, 1}, {1, 0}})
+    ->Unit(benchmark::kMillisecond);
 
 // EPVH's own "alien" set (24 views, 1900x1600; issue 20), cameras 0..k-1, loaded once.
 const RealCapture* Alien() {
@@ -164,8 +180,9 @@ const RealCapture* Alien() {
 }
 
 // The exact hull of alien cameras 0..views-1 from masks, everything included (contours, cone
-// bounds, faces, mesh), on `threads` threads.
-void RunPolyhedralHullAlien(benchmark::State& state, long views, int threads) {
+// bounds, faces, mesh), on `threads` threads, edges traced or (`trace` false) the face-by-face
+// sweeps only.
+void RunPolyhedralHullAlien(benchmark::State& state, long views, int threads, bool trace) {
   const RealCapture* alien = Alien();
   if (!alien) {
     state.SkipWithError("no real data beside the project");
@@ -175,6 +192,7 @@ void RunPolyhedralHullAlien(benchmark::State& state, long views, int threads) {
   const std::vector<cv::Mat> masks(alien->masks.begin(), alien->masks.begin() + views);
   PolyhedralHullOptions options;
   options.threads = threads;
+  options.trace_edges = trace;
   PolyhedralHullResult hull;
   for (auto _ : state) {
     hull = ComputePolyhedralHull(cameras, masks, options);
@@ -183,18 +201,22 @@ void RunPolyhedralHullAlien(benchmark::State& state, long views, int threads) {
   }
   state.counters["triangles"] = static_cast<double>(hull.mesh.triangles.size());
   state.counters["cone_faces"] = static_cast<double>(hull.stats.cone_faces);
+  state.counters["traced"] = hull.stats.traced_edges ? 1 : 0;
 }
 
-// Arg: views. One thread, as EPVH's figures in docs/PERFORMANCE.md.
+// Args: views, then 1 for the default (edges traced), 0 for the face-by-face sweeps only. One
+// thread, as EPVH's figures in docs/PERFORMANCE.md.
 void BM_PolyhedralHullAlien(benchmark::State& state) {
-  RunPolyhedralHullAlien(state, static_cast<long>(state.range(0)), 1);
+  RunPolyhedralHullAlien(state, static_cast<long>(state.range(0)), 1, state.range(1) != 0);
 }
-BENCHMARK(BM_PolyhedralHullAlien)->Arg(4)->Arg(8)->Arg(12)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PolyhedralHullAlien)
+    ->ArgsProduct({{4, 8, 12, 16}, {1, 0}})
+    ->Unit(benchmark::kMillisecond);
 
 // Args: views, threads (cone faces and contours in parallel).
 void BM_PolyhedralHullAlienThreads(benchmark::State& state) {
-  RunPolyhedralHullAlien(state, static_cast<long>(state.range(0)),
-                         static_cast<int>(state.range(1)));
+  RunPolyhedralHullAlien(state, static_cast<long>(state.range(0)), static_cast<int>(state.range(1)),
+                         true);
 }
 BENCHMARK(BM_PolyhedralHullAlienThreads)
     ->Args({8, 1})

@@ -54,8 +54,10 @@ void ExpectEdgesAreTheHullsOwn(const std::vector<CameraModel>& cameras,
 
   PolyhedralHullOptions options;
   options.keep_provenance = true;
+  options.trace_edges = false;  // the face-by-face sweeps: the reference
   const PolyhedralHullResult hull = ComputePolyhedralHull(cameras, contours, box, options);
   ASSERT_TRUE(hull.success) << hull.reason;
+  ASSERT_FALSE(hull.stats.traced_edges);
   // Both from the plain contours' planes.
   ASSERT_FALSE(hull.stats.contours_perturbed);
   const ConePlaneSet set(cameras, contours, box);
