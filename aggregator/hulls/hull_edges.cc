@@ -13,26 +13,6 @@
 namespace silnet::aggregator {
 namespace {
 
-using PlaneTriple = std::array<int, 3>;
-
-PlaneTriple Sorted(int a, int b, int c) {
-  PlaneTriple t{a, b, c};
-  std::sort(t.begin(), t.end());
-  return t;
-}
-
-// The rate at which the line along `direction` through plane `plane`'s face moves into the
-// side of `bound` that the face keeps, where `bound` is the plane before or after it (the
-// wedge's edge rays through the face's contour points) or a face of another view (inside its
-// cone): positive if the face lies ahead along `direction`.
-double RateInto(const ConePlaneSet& set, int plane, int bound, const Eigen::Vector3d& direction) {
-  const ConePlane& face = set.Plane(plane);
-  const Eigen::Vector3d& normal = set.Normal(plane);
-  if (bound == face.prev) return set.Ray(face.view, face.p).cross(direction).dot(normal);
-  if (bound == face.next) return direction.cross(set.Ray(face.view, face.q)).dot(normal);
-  return set.Normal(bound).dot(direction);
-}
-
 // Where the line origin + t direction (t >= 0) leaves plane `plane`'s face through the rays
 // of its contour points: range.hi narrowed, `hi_plane` the plane beyond that ray.
 void NarrowToFace(const ConePlaneSet& set, const Eigen::Vector3d& centre, int plane,
@@ -112,7 +92,7 @@ class EdgeTracer {
       ++graph_.open_ends;
       return -1;
     }
-    const PlaneTriple key = Sorted(a, b, c);
+    const PlaneTriple key = SortedPlanes(a, b, c);
     const auto [it, added] = vertex_.try_emplace(key, static_cast<int>(graph_.vertices.size()));
     if (added) {
       graph_.vertices.push_back({key, position});
@@ -136,7 +116,7 @@ class EdgeTracer {
     Eigen::Vector3d direction = set_.Normal(a).cross(set_.Normal(b));
     if (!(direction.squaredNorm() > 0.0)) return;
     const int c_view = set_.Plane(c).view;
-    const double rate = RateInto(set_, c_view == view_b ? b : a, c, direction);
+    const double rate = IntoFaceSide(set_, c_view == view_b ? b : a, c).dot(direction);
     if (rate < 0.0) direction = -direction;
     const Eigen::Vector3d origin = graph_.vertices[static_cast<size_t>(from)].position;
     const ConeLine line{view_a, origin, direction};
@@ -162,6 +142,21 @@ class EdgeTracer {
 };
 
 }  // namespace
+
+PlaneTriple SortedPlanes(int a, int b, int c) {
+  PlaneTriple t{a, b, c};
+  std::sort(t.begin(), t.end());
+  return t;
+}
+
+Eigen::Vector3d IntoFaceSide(const ConePlaneSet& set, int face, int bound) {
+  const ConePlane& plane = set.Plane(face);
+  const Eigen::Vector3d& normal = set.Normal(face);
+  if (bound == plane.prev) return normal.cross(set.Ray(plane.view, plane.p));
+  if (bound == plane.next) return set.Ray(plane.view, plane.q).cross(normal);
+  const Eigen::Vector3d& g = set.Normal(bound);
+  return g - g.dot(normal) / normal.squaredNorm() * normal;
+}
 
 HullEdgeGraph TraceHullEdges(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
                              const WorldBox& bounds,

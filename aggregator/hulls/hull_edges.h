@@ -22,9 +22,21 @@
 
 namespace silnet::aggregator {
 
-// A vertex of the hull: where three cone planes meet (their indexes, ascending).
+// Three cone planes' indexes, ascending: the name of the hull vertex where they meet.
+using PlaneTriple = std::array<int, 3>;
+
+// The name of the vertex of planes a, b and c.
+PlaneTriple SortedPlanes(int a, int b, int c);
+
+// The direction within face `face`'s plane into the side of plane `bound` that the face keeps:
+// its wedge (`bound` the plane before or after it, whose ray through the shared contour point
+// bounds the wedge) or another view's cone (`bound` a face of it). A line in the plane along
+// `d` moves into that side where its dot product with `d` is positive.
+Eigen::Vector3d IntoFaceSide(const ConePlaneSet& set, int face, int bound);
+
+// A vertex of the hull: where three cone planes meet.
 struct HullEdgeVertex {
-  std::array<int, 3> planes{};
+  PlaneTriple planes{};
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
 };
 

@@ -18,17 +18,6 @@ struct FaceEdge {
   int from = -1, to = -1;
 };
 
-// The in-plane direction, within face `face`'s plane, into the side of plane `bound` that the
-// face keeps (its wedge's neighbour planes, or another view's cone).
-Eigen::Vector3d IntoBound(const ConePlaneSet& set, int face, int bound) {
-  const ConePlane& plane = set.Plane(face);
-  const Eigen::Vector3d& normal = set.Normal(face);
-  if (bound == plane.prev) return normal.cross(set.Ray(plane.view, plane.p));
-  if (bound == plane.next) return set.Ray(plane.view, plane.q).cross(normal);
-  const Eigen::Vector3d& g = set.Normal(bound);
-  return g - g.dot(normal) / normal.squaredNorm() * normal;
-}
-
 // Appends `edge` to face `face`'s list, directed so that the face lies on its left seen from
 // outside (along -normal: the hull lies on the positive side of its cone planes).
 void AddDirected(const ConePlaneSet& set, const HullEdgeGraph& graph, int face, int other,
@@ -37,7 +26,7 @@ void AddDirected(const ConePlaneSet& set, const HullEdgeGraph& graph, int face, 
                                 graph.vertices[static_cast<size_t>(edge.from)].position;
   const Eigen::Vector3d outward = -set.Normal(face);
   // Left of `along` seen from outside: outward x along.
-  const bool forward = outward.cross(along).dot(IntoBound(set, face, other)) > 0.0;
+  const bool forward = outward.cross(along).dot(IntoFaceSide(set, face, other)) > 0.0;
   edges->push_back(forward ? FaceEdge{edge.from, edge.to} : FaceEdge{edge.to, edge.from});
 }
 

@@ -30,14 +30,6 @@
 namespace silnet::aggregator {
 namespace {
 
-using PlaneTriple = std::array<int, 3>;
-
-PlaneTriple Sorted(int a, int b, int c) {
-  PlaneTriple t{a, b, c};
-  std::sort(t.begin(), t.end());
-  return t;
-}
-
 // Checks the viewing edges of `cameras`' silhouettes in `masks`, and the edges traced from
 // them, against their polyhedral hull.
 void ExpectEdgesAreTheHullsOwn(const std::vector<CameraModel>& cameras,
@@ -67,7 +59,7 @@ void ExpectEdgesAreTheHullsOwn(const std::vector<CameraModel>& cameras,
   for (size_t v = 0; v < hull.provenance.vertex_planes.size(); ++v) {
     const std::vector<int>& planes = hull.provenance.vertex_planes[v];
     if (planes.size() == 3)
-      hull_vertex[Sorted(planes[0], planes[1], planes[2])] = static_cast<int>(v);
+      hull_vertex[SortedPlanes(planes[0], planes[1], planes[2])] = static_cast<int>(v);
   }
 
   const std::vector<ViewingEdge> edges = ComputeViewingEdges(cameras, set, box, 1);
@@ -82,7 +74,7 @@ void ExpectEdgesAreTheHullsOwn(const std::vector<CameraModel>& cameras,
          {std::pair{edge.near, edge.near_plane}, {edge.far, edge.far_plane}}) {
       ASSERT_GE(bound, 0) << "an edge ends at the bounds box";
       EXPECT_NE(set.Plane(bound).view, edge.view);
-      const auto found = hull_vertex.find(Sorted(previous, edge.plane, bound));
+      const auto found = hull_vertex.find(SortedPlanes(previous, edge.plane, bound));
       if (found == hull_vertex.end()) {
         ADD_FAILURE() << "no hull vertex on planes " << previous << ", " << edge.plane << ", "
                       << bound;
@@ -131,7 +123,7 @@ void ExpectEdgesAreTheHullsOwn(const std::vector<CameraModel>& cameras,
       std::vector<int> shared;
       std::set_intersection(p.begin(), p.end(), q.begin(), q.end(), std::back_inserter(shared));
       if (p.size() != 3 || q.size() != 3 || shared.size() != 2) continue;
-      const PlaneTriple u = Sorted(p[0], p[1], p[2]), w = Sorted(q[0], q[1], q[2]);
+      const PlaneTriple u = SortedPlanes(p[0], p[1], p[2]), w = SortedPlanes(q[0], q[1], q[2]);
       mesh_edges.insert({std::min(u, w), std::max(u, w)});
     }
   }
