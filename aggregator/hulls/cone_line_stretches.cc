@@ -6,6 +6,11 @@
 namespace silnet::aggregator {
 namespace {
 
+// The most cells of a view's cell index a traced edge's image may span for its crossings to
+// be looked up there (8 to 32 were equally fast on the alien set, 64 slower). The viewing
+// edges' rays are long: the epipolar index serves them better.
+constexpr size_t kTracedEdgeCells = 16;
+
 // The direction from view `line.seen_from`'s centre to the line's point at `t` (the line's own
 // direction where that point is the centre).
 Eigen::Vector3d SeenDirection(const std::vector<Eigen::Vector3d>& centres, const ConeLine& line,
@@ -15,16 +20,28 @@ Eigen::Vector3d SeenDirection(const std::vector<Eigen::Vector3d>& centres, const
   return v.squaredNorm() > 0.0 ? v : line.direction;
 }
 
-// The crossings within `range` of `line` with view `other`'s cone faces that the epipolar
-// index offers, sorted along the line.
+// The crossings within `range` of `line` with view `other`'s cone faces, sorted along the
+// line. The candidates are the faces the other view's cell index files near the stretch's
+// image where that spans at most `most_cells` cells (a short stretch), else those the
+// epipolar index offers.
 void FindCrossings(const ConePlaneSet& set, const std::vector<Eigen::Vector3d>& centres,
-                   const ConeLine& line, int other, const LineStretch& range,
+                   const ConeLine& line, int other, const LineStretch& range, size_t most_cells,
                    ConeLineBuffers* buffers) {
   buffers->candidates.clear();
   buffers->crossings.clear();
-  set.CandidateEdges(line.seen_from, other, SeenDirection(centres, line, range.lo),
-                     SeenDirection(centres, line, range.hi), buffers->candidates);
   const Matrix34d& projection = set.Projection(other);
+  bool near = false;
+  if (most_cells > 0) {
+    const Eigen::Vector3d a = projection * (line.origin + range.lo * line.direction).homogeneous();
+    const Eigen::Vector3d b = projection * (line.origin + range.hi * line.direction).homogeneous();
+    near = a.z() > 0 && b.z() > 0 &&
+           set.EdgesNearSegment(other, a.hnormalized(), b.hnormalized(), most_cells,
+                                buffers->candidates);
+  }
+  if (!near) {
+    set.CandidateEdges(line.seen_from, other, SeenDirection(centres, line, range.lo),
+                       SeenDirection(centres, line, range.hi), buffers->candidates);
+  }
   const Eigen::Vector3d& other_centre = centres[static_cast<size_t>(other)];
   for (const int q : buffers->candidates) {
     const Eigen::Vector3d& normal = set.Normal(q);
@@ -133,7 +150,7 @@ void StretchesInsideCones(const ConePlaneSet& set, const std::vector<Eigen::Vect
   for (int other = 0; other < views && !buffers->inside.empty(); ++other) {
     if (other == skip_a || other == skip_b) continue;
     const LineStretch within{buffers->inside.front().lo, buffers->inside.back().hi, -1, -1};
-    FindCrossings(set, centres, line, other, within, buffers);
+    FindCrossings(set, centres, line, other, within, 0, buffers);
     InsideStretches(set, line, other, within, buffers);
     Intersect(buffers);
   }
@@ -145,7 +162,7 @@ LineStretch FirstExit(const ConePlaneSet& set, const std::vector<Eigen::Vector3d
   const int views = static_cast<int>(set.Views());
   for (int other = 0; other < views; ++other) {
     if (other == skip_a || other == skip_b) continue;
-    FindCrossings(set, centres, line, other, range, buffers);
+    FindCrossings(set, centres, line, other, range, kTracedEdgeCells, buffers);
     for (const auto& c : buffers->crossings) {
       if (c.entering || c.plane == skip_plane) continue;
       range.hi = c.t;

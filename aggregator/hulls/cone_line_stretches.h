@@ -1,10 +1,11 @@
 #pragma once
 // The parts of a straight line that lie inside a set of viewing cones (thesis 4.2): the line's
-// crossings with the cones' faces, found through ConePlaneSet's epipolar index, ordered along
-// the line and walked by their direction (the sign of the face normal along the line tells
-// entering from leaving), so a point-in-silhouette test is needed only for a view whose faces
-// the line never crosses. The shared step of the hull's viewing edges (viewing_edges.h) and
-// of the cone-intersection edges traced from them (hull_edges.h).
+// crossings with the cones' faces, found through ConePlaneSet's epipolar index (a short
+// stretch's, the traced edges', through its cell index), ordered along the line and walked by their
+// direction (the sign of the face normal along the line tells entering from leaving), so a
+// point-in-silhouette test is needed only for a view whose faces the line never crosses. The shared
+// step of the hull's viewing edges (viewing_edges.h) and of the cone-intersection edges traced from
+// them (hull_edges.h).
 
 #include <Eigen/Core>
 #include <optional>

@@ -16,6 +16,10 @@ namespace {
 constexpr double kRowStepPx = 1.0;
 // Margin of the silhouettes' bounding octagons, pixels.
 constexpr double kOctagonMarginPx = 1.0;
+// Side of the cell index's cells, pixels, and the margin by which an edge's box is grown
+// before it is filed in them (far more than the rounding of a crossing's projection).
+constexpr double kCellPx = 8.0;
+constexpr double kCellMarginPx = 0.5;
 
 // The bounding octagon of a view's contour points, grown by the margin.
 std::array<Eigen::Vector3d, 8> OctagonAround(const std::vector<ConePlane>& planes,
@@ -142,6 +146,7 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
       }
     }
     rows_.push_back(std::move(rows));
+    cells_.push_back(BuildCellIndex(planes_, view_planes_[v]));
     octagons_.push_back(OctagonAround(planes_, view_planes_[v]));
   }
 
@@ -185,6 +190,50 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
   });
 }
 
+ConePlaneSet::CellIndex ConePlaneSet::BuildCellIndex(const std::vector<ConePlane>& planes,
+                                                     const std::vector<int>& view_planes) {
+  CellIndex cells;
+  if (view_planes.empty()) return cells;
+  Eigen::AlignedBox2d extent;
+  for (int index : view_planes)
+    extent.extend(planes[static_cast<size_t>(index)].p);
+  cells.size = kCellPx;
+  cells.x0 = extent.min().x() - 2 * kCellMarginPx;
+  cells.y0 = extent.min().y() - 2 * kCellMarginPx;
+  cells.cols = static_cast<int>((extent.sizes().x() + 4 * kCellMarginPx) / kCellPx) + 1;
+  cells.rows = static_cast<int>((extent.sizes().y() + 4 * kCellMarginPx) / kCellPx) + 1;
+  // The cells of each edge's box grown by the margin, as column and row ranges.
+  const auto span = [&](const ConePlane& plane) {
+    const Eigen::Vector2d lo = plane.p.cwiseMin(plane.q).array() - kCellMarginPx;
+    const Eigen::Vector2d hi = plane.p.cwiseMax(plane.q).array() + kCellMarginPx;
+    const auto cell = [&](double value, double origin, int count) {
+      return std::clamp(static_cast<int>((value - origin) / kCellPx), 0, count - 1);
+    };
+    return std::array<int, 4>{
+        cell(lo.x(), cells.x0, cells.cols), cell(hi.x(), cells.x0, cells.cols),
+        cell(lo.y(), cells.y0, cells.rows), cell(hi.y(), cells.y0, cells.rows)};
+  };
+  const auto cols = static_cast<size_t>(cells.cols);
+  cells.starts.assign(cols * static_cast<size_t>(cells.rows) + 1, 0);
+  const auto for_cells = [&](const ConePlane& plane, const auto& visit) {
+    const auto [c0, c1, r0, r1] = span(plane);
+    for (int r = r0; r <= r1; ++r)
+      for (int c = c0; c <= c1; ++c)
+        visit(static_cast<size_t>(r) * cols + static_cast<size_t>(c));
+  };
+  for (int index : view_planes)
+    for_cells(planes[static_cast<size_t>(index)], [&](size_t cell) { ++cells.starts[cell + 1]; });
+  for (size_t k = 1; k < cells.starts.size(); ++k)
+    cells.starts[k] += cells.starts[k - 1];
+  cells.planes.resize(cells.starts.back());
+  std::vector<uint32_t> fill(cells.starts.begin(), cells.starts.end() - 1);
+  for (int index : view_planes) {
+    for_cells(planes[static_cast<size_t>(index)],
+              [&](size_t cell) { cells.planes[fill[cell]++] = index; });
+  }
+  return cells;
+}
+
 Eigen::Vector3d ConePlaneSet::Ray(int view, const Eigen::Vector2d& pixel) const {
   return pixel_to_ray_[static_cast<size_t>(view)] * pixel.homogeneous();
 }
@@ -223,6 +272,48 @@ void ConePlaneSet::CandidateEdges(int view, int other, const Eigen::Vector3d& fr
        it != pair.arcs.end() && it->lo <= hi; ++it) {
     if (it->hi >= lo) out.push_back(it->plane);
   }
+}
+
+bool ConePlaneSet::EdgesNearSegment(int view, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                    size_t max_cells, std::vector<int>& out) const {
+  const CellIndex& cells = cells_[static_cast<size_t>(view)];
+  if (cells.cols == 0) return true;
+  if (!(a.allFinite() && b.allFinite())) return false;
+  // In cell units; the segment from the end with the smaller y.
+  const Eigen::Vector2d origin(cells.x0, cells.y0);
+  Eigen::Vector2d u = (a - origin) / cells.size, w = (b - origin) / cells.size;
+  if (w.y() < u.y()) std::swap(u, w);
+  if (w.y() < 0 || u.y() >= cells.rows) return true;
+  // Where the segment is at height y; a horizontal one spans its ends' x at its height.
+  const bool level = !(w.y() > u.y());
+  const double dx_dy = level ? 0.0 : (w.x() - u.x()) / (w.y() - u.y());
+  const auto x_at = [&](double y) { return u.x() + dx_dy * (y - u.y()); };
+  const int r0 = std::max(0, static_cast<int>(u.y()));
+  const int r1 = std::min(cells.rows - 1, static_cast<int>(w.y()));
+  const size_t first = out.size();
+  size_t visited = 0;
+  // Row by row, the columns of the part of the segment within the row's band.
+  for (int r = r0; r <= r1; ++r) {
+    const double x_lo = level ? u.x() : x_at(std::max(u.y(), static_cast<double>(r)));
+    const double x_hi = level ? w.x() : x_at(std::min(w.y(), static_cast<double>(r + 1)));
+    const double left = std::min(x_lo, x_hi), right = std::max(x_lo, x_hi);
+    if (right < 0 || left >= cells.cols) continue;
+    const int c0 = std::max(0, static_cast<int>(left));
+    const int c1 = std::min(cells.cols - 1, static_cast<int>(right));
+    visited += static_cast<size_t>(c1 - c0 + 1);
+    if (visited > max_cells) {
+      out.resize(first);
+      return false;
+    }
+    const size_t row = static_cast<size_t>(r) * static_cast<size_t>(cells.cols);
+    out.insert(out.end(), cells.planes.begin() + cells.starts[row + static_cast<size_t>(c0)],
+               cells.planes.begin() + cells.starts[row + static_cast<size_t>(c1) + 1]);
+  }
+  if (visited > 1) {
+    std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
+    out.erase(std::unique(out.begin() + static_cast<std::ptrdiff_t>(first), out.end()), out.end());
+  }
+  return true;
 }
 
 }  // namespace silnet::aggregator

@@ -3,7 +3,7 @@
 // contour edge, with the indexes the exact polyhedral hull needs to stay fast: for every
 // camera pair, the contour edges ordered by the epipolar half-plane they span (so a face
 // meets only the other view's edges in its own epipolar range), and per camera a row index
-// for point-in-silhouette tests.
+// for point-in-silhouette tests and a grid of image cells for the edges near a short segment.
 
 #include <Eigen/Core>
 #include <array>
@@ -66,6 +66,13 @@ class ConePlaneSet {
   // `view` can meet the range of the rays `from` and `to` of `view` (world directions).
   void CandidateEdges(int view, int other, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
                       std::vector<int>& out) const;
+  // Appends, each once, the planes of camera `view` whose contour edge passes within half a
+  // pixel of the bounding box of the undistorted image points `a` and `b` (so every edge the
+  // segment a-b meets), and returns true; returns false, appending nothing, if that box spans
+  // more than `max_cells` cells of the view's grid (a long segment, for which CandidateEdges
+  // offers fewer).
+  bool EdgesNearSegment(int view, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                        size_t max_cells, std::vector<int>& out) const;
 
  private:
   struct PairIndex {
@@ -88,6 +95,18 @@ class ConePlaneSet {
 
     size_t Rows() const { return starts.empty() ? 0 : starts.size() - 1; }
   };
+  // The contour edges that pass near each square image cell: cell (c, r)'s planes are
+  // planes[starts[i], starts[i + 1]) for i = r * cols + c; the grid covers the view's contour
+  // points with a margin.
+  struct CellIndex {
+    double x0 = 0, y0 = 0, size = 1;
+    int cols = 0, rows = 0;
+    std::vector<uint32_t> starts;
+    std::vector<int> planes;
+  };
+  // The cell index of the planes `view_planes` (one view's).
+  static CellIndex BuildCellIndex(const std::vector<ConePlane>& planes,
+                                  const std::vector<int>& view_planes);
   // The direction's angle about the pair's baseline, as an order-preserving pseudo-angle.
   double Angle(const PairIndex& pair, const Eigen::Vector3d& direction) const;
 
@@ -98,6 +117,7 @@ class ConePlaneSet {
   std::vector<Matrix34d> projections_;
   std::vector<Eigen::Matrix3d> pixel_to_ray_;
   std::vector<RowIndex> rows_;
+  std::vector<CellIndex> cells_;
   std::vector<std::array<Eigen::Vector3d, 8>> octagons_;
   std::vector<PairIndex> pairs_;  // [view * Views() + other]
 };
