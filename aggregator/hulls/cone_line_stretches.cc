@@ -20,46 +20,61 @@ Eigen::Vector3d SeenDirection(const std::vector<Eigen::Vector3d>& centres, const
   return v.squaredNorm() > 0.0 ? v : line.direction;
 }
 
-// The crossings within `range` of `line` with view `other`'s cone faces, sorted along the
-// line. The candidates are the faces the other view's cell index files near the stretch's
-// image where that spans at most `most_cells` cells (a short stretch), else those the
-// epipolar index offers.
+// The parameter where `line` meets cone plane `q` of view `other`; `along` is the plane
+// normal's dot product with the line's direction, non-zero.
+double PlaneCrossing(const ConePlaneSet& set, const std::vector<Eigen::Vector3d>& centres,
+                     const ConeLine& line, int other, int q, double along) {
+  return set.Normal(q).dot(centres[static_cast<size_t>(other)] - line.origin) / along;
+}
+
+// True if the point of `line` at `t` on cone plane `q` of view `other` lies on its face: the
+// plane holds the whole line through the other camera's centre, so the point is on the face
+// if it projects between the face's contour points.
+bool OnFace(const ConePlaneSet& set, const ConeLine& line, int other, int q, double t) {
+  const Eigen::Vector3d x =
+      set.Projection(other) * (line.origin + t * line.direction).homogeneous();
+  if (!(x.z() > 0)) return false;
+  const ConePlane& face = set.Plane(q);
+  const Eigen::Vector2d edge = face.q - face.p;
+  const double s = (x.hnormalized() - face.p).dot(edge) / edge.squaredNorm();
+  return s >= 0.0 && s < 1.0;
+}
+
+// The crossings within `range` of `line` with view `other`'s cone faces that the epipolar
+// index offers, sorted along the line.
 void FindCrossings(const ConePlaneSet& set, const std::vector<Eigen::Vector3d>& centres,
-                   const ConeLine& line, int other, const LineStretch& range, size_t most_cells,
+                   const ConeLine& line, int other, const LineStretch& range,
                    ConeLineBuffers* buffers) {
   buffers->candidates.clear();
   buffers->crossings.clear();
-  const Matrix34d& projection = set.Projection(other);
-  bool near = false;
-  if (most_cells > 0) {
-    const Eigen::Vector3d a = projection * (line.origin + range.lo * line.direction).homogeneous();
-    const Eigen::Vector3d b = projection * (line.origin + range.hi * line.direction).homogeneous();
-    near = a.z() > 0 && b.z() > 0 &&
-           set.EdgesNearSegment(other, a.hnormalized(), b.hnormalized(), most_cells,
-                                buffers->candidates);
-  }
-  if (!near) {
-    set.CandidateEdges(line.seen_from, other, SeenDirection(centres, line, range.lo),
-                       SeenDirection(centres, line, range.hi), buffers->candidates);
-  }
-  const Eigen::Vector3d& other_centre = centres[static_cast<size_t>(other)];
+  set.CandidateEdges(line.seen_from, other, SeenDirection(centres, line, range.lo),
+                     SeenDirection(centres, line, range.hi), buffers->candidates);
   for (const int q : buffers->candidates) {
-    const Eigen::Vector3d& normal = set.Normal(q);
-    const double along = normal.dot(line.direction);
+    const double along = set.Normal(q).dot(line.direction);
     if (along == 0.0) continue;
-    const double t = normal.dot(other_centre - line.origin) / along;
-    if (!(t > range.lo && t < range.hi)) continue;
-    // The plane holds the whole line through the other camera's centre: the crossing is on
-    // the face if it projects between the face's contour points.
-    const Eigen::Vector3d x = projection * (line.origin + t * line.direction).homogeneous();
-    if (!(x.z() > 0)) continue;
-    const ConePlane& face = set.Plane(q);
-    const Eigen::Vector2d edge = face.q - face.p;
-    const double s = (x.hnormalized() - face.p).dot(edge) / edge.squaredNorm();
-    if (s < 0.0 || s >= 1.0) continue;
-    buffers->crossings.push_back({t, q, along > 0.0});
+    const double t = PlaneCrossing(set, centres, line, other, q, along);
+    if (t > range.lo && t < range.hi && OnFace(set, line, other, q, t))
+      buffers->crossings.push_back({t, q, along > 0.0});
   }
   std::sort(buffers->crossings.begin(), buffers->crossings.end());
+}
+
+// The faces of view `other` `range` of `line` may cross: those its cell index files near the
+// range's image where that spans at most kTracedEdgeCells cells, else those the epipolar
+// index offers.
+void ShortRangeCandidates(const ConePlaneSet& set, const std::vector<Eigen::Vector3d>& centres,
+                          const ConeLine& line, int other, const LineStretch& range,
+                          std::vector<int>& out) {
+  out.clear();
+  const Matrix34d& projection = set.Projection(other);
+  const Eigen::Vector3d a = projection * (line.origin + range.lo * line.direction).homogeneous();
+  const Eigen::Vector3d b = projection * (line.origin + range.hi * line.direction).homogeneous();
+  if (a.z() > 0 && b.z() > 0 &&
+      set.EdgesNearSegment(other, a.hnormalized(), b.hnormalized(), kTracedEdgeCells, out)) {
+    return;
+  }
+  set.CandidateEdges(line.seen_from, other, SeenDirection(centres, line, range.lo),
+                     SeenDirection(centres, line, range.hi), out);
 }
 
 // The stretches of `range` inside view `other`'s cone, from the sorted crossings (a line with
@@ -150,7 +165,7 @@ void StretchesInsideCones(const ConePlaneSet& set, const std::vector<Eigen::Vect
   for (int other = 0; other < views && !buffers->inside.empty(); ++other) {
     if (other == skip_a || other == skip_b) continue;
     const LineStretch within{buffers->inside.front().lo, buffers->inside.back().hi, -1, -1};
-    FindCrossings(set, centres, line, other, within, 0, buffers);
+    FindCrossings(set, centres, line, other, within, buffers);
     InsideStretches(set, line, other, within, buffers);
     Intersect(buffers);
   }
@@ -162,12 +177,23 @@ LineStretch FirstExit(const ConePlaneSet& set, const std::vector<Eigen::Vector3d
   const int views = static_cast<int>(set.Views());
   for (int other = 0; other < views; ++other) {
     if (other == skip_a || other == skip_b) continue;
-    FindCrossings(set, centres, line, other, range, kTracedEdgeCells, buffers);
-    for (const auto& c : buffers->crossings) {
-      if (c.entering || c.plane == skip_plane) continue;
-      range.hi = c.t;
-      range.hi_plane = c.plane;
-      break;
+    ShortRangeCandidates(set, centres, line, other, range, buffers->candidates);
+    // The first leaving crossing, the lowest plane among equal parameters (FindCrossings'
+    // order); a face offered twice changes nothing.
+    double best = range.hi;
+    int best_plane = -1;  // none yet in this view: the range's end excludes its parameter
+    for (const int q : buffers->candidates) {
+      const double along = set.Normal(q).dot(line.direction);
+      if (!(along < 0.0) || q == skip_plane) continue;
+      const double t = PlaneCrossing(set, centres, line, other, q, along);
+      const bool first = t < best || (t == best && best_plane >= 0 && q < best_plane);
+      if (!(t > range.lo) || !first || !OnFace(set, line, other, q, t)) continue;
+      best = t;
+      best_plane = q;
+    }
+    if (best_plane >= 0) {
+      range.hi = best;
+      range.hi_plane = best_plane;
     }
   }
   return range;

@@ -309,10 +309,6 @@ bool ConePlaneSet::EdgesNearSegment(int view, const Eigen::Vector2d& a, const Ei
     out.insert(out.end(), cells.planes.begin() + cells.starts[row + static_cast<size_t>(c0)],
                cells.planes.begin() + cells.starts[row + static_cast<size_t>(c1) + 1]);
   }
-  if (visited > 1) {
-    std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
-    out.erase(std::unique(out.begin() + static_cast<std::ptrdiff_t>(first), out.end()), out.end());
-  }
   return true;
 }
 

@@ -66,11 +66,11 @@ class ConePlaneSet {
   // `view` can meet the range of the rays `from` and `to` of `view` (world directions).
   void CandidateEdges(int view, int other, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
                       std::vector<int>& out) const;
-  // Appends, each once, the planes of camera `view` whose contour edge passes within half a
-  // pixel of the bounding box of the undistorted image points `a` and `b` (so every edge the
-  // segment a-b meets), and returns true; returns false, appending nothing, if that box spans
-  // more than `max_cells` cells of the view's grid (a long segment, for which CandidateEdges
-  // offers fewer).
+  // Appends the planes of camera `view` filed in the cells of its grid that the segment from
+  // undistorted image point `a` to `b` passes (every contour edge within half a pixel of the
+  // segment, so every edge it meets; one filed in several of those cells more than once) and
+  // returns true; returns false, appending nothing, if the segment passes more than
+  // `max_cells` cells (a long segment, for which CandidateEdges offers fewer).
   bool EdgesNearSegment(int view, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                         size_t max_cells, std::vector<int>& out) const;
 

