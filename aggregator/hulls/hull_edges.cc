@@ -10,6 +10,7 @@
 
 #include "aggregator/hulls/cone_line_stretches.h"
 #include "shared/util/check.h"
+#include "shared/util/parallel_for.h"
 
 namespace silnet::aggregator {
 namespace {
@@ -47,6 +48,22 @@ int PairSlot(const PlaneTriple& planes, int a, int b) {
   return 2;
 }
 
+// Edges traced per chunk of a round's tasks on one thread.
+constexpr size_t kTasksPerChunk = 256;
+
+// An edge to trace: from vertex `from` along the line of planes a < b in `direction`, away
+// from plane c.
+struct TraceTask {
+  int from = -1, a = -1, b = -1, c = -1;
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+};
+
+// Where a traced edge ends: on `plane` (-1 where the bounds box cut it) at `position`.
+struct EdgeEnd {
+  int plane = -1;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+};
+
 class EdgeTracer {
  public:
   EdgeTracer(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
@@ -70,16 +87,52 @@ class EdgeTracer {
     ++graph_.viewing_edges;
   }
 
-  // Traces the edges that leave every vertex found, until no vertex is new.
-  HullEdgeGraph Finish() {
-    for (size_t v = 0; v < graph_.vertices.size(); ++v) {
-      const PlaneTriple planes = graph_.vertices[v].planes;
-      for (const auto& [a, b, c] : {PlaneTriple{planes[0], planes[1], planes[2]},
-                                    PlaneTriple{planes[0], planes[2], planes[1]},
-                                    PlaneTriple{planes[1], planes[2], planes[0]}}) {
-        if (set_.Plane(a).view == set_.Plane(b).view) continue;
-        if (done_[v] & (1u << PairSlot(planes, a, b))) continue;
-        TraceEdge(static_cast<int>(v), a, b, c);
+  // Traces the edges that leave every vertex found, until no vertex is new: in rounds, each
+  // tracing the edges not yet known at the vertices the previous round found (and those it
+  // put off), on `threads` threads, and adding their ends in a fixed order (so the graph does
+  // not depend on the number of threads). Of two edges of a round on one line that face each
+  // other (likely one edge seen from both ends) the second waits for the next round, which
+  // drops it if the first ended at its vertex; any other edge traced from both ends in one
+  // round is kept once.
+  HullEdgeGraph Finish(int threads) {
+    std::vector<TraceTask> tasks, put_off;
+    std::vector<std::optional<EdgeEnd>> ends;
+    for (size_t round_start = 0; round_start < graph_.vertices.size() || !put_off.empty();) {
+      const size_t round_end = graph_.vertices.size();
+      tasks.clear();
+      for (const TraceTask& task : put_off)
+        if (!Done(task)) tasks.push_back(task);
+      for (size_t v = round_start; v < round_end; ++v) {
+        const PlaneTriple planes = graph_.vertices[v].planes;
+        for (const auto& [a, b, c] : {PlaneTriple{planes[0], planes[1], planes[2]},
+                                      PlaneTriple{planes[0], planes[2], planes[1]},
+                                      PlaneTriple{planes[1], planes[2], planes[0]}}) {
+          TraceTask task{static_cast<int>(v), a, b, c};
+          if (set_.Plane(a).view == set_.Plane(b).view || Done(task)) continue;
+          task.direction = EdgeDirection(a, b, c);
+          tasks.push_back(task);
+        }
+      }
+      round_start = round_end;
+      PutOffFacingPairs(&tasks, &put_off);
+      ends.assign(tasks.size(), std::nullopt);
+      const size_t chunks = (tasks.size() + kTasksPerChunk - 1) / kTasksPerChunk;
+      ParallelFor(chunks, tasks.size() >= kTasksPerChunk ? threads : 1, [&](size_t k) {
+        ConeLineBuffers buffers;
+        for (size_t t = k * kTasksPerChunk; t < std::min(tasks.size(), (k + 1) * kTasksPerChunk);
+             ++t)
+          ends[t] = TraceEdge(tasks[t], &buffers);
+      });
+      for (size_t t = 0; t < tasks.size(); ++t) {
+        if (Done(tasks[t])) continue;  // traced from its other end earlier in this round
+        const TraceTask& task = tasks[t];
+        ++graph_.traced;
+        MarkDone(task.from, task.a, task.b);
+        if (!ends[t]) continue;
+        const int to = End(task.a, task.b, ends[t]->plane, ends[t]->position);
+        if (to < 0) continue;
+        MarkDone(to, task.a, task.b);
+        graph_.edges.push_back({task.a, task.b, task.from, to});
       }
     }
     return std::move(graph_);
@@ -102,35 +155,83 @@ class EdgeTracer {
     return it->second;
   }
 
+  // True if the edge of `task` is known.
+  bool Done(const TraceTask& task) const {
+    const auto from = static_cast<size_t>(task.from);
+    return done_[from] & (1u << PairSlot(graph_.vertices[from].planes, task.a, task.b));
+  }
+
+  // The direction of an edge along the line of planes a and b into the side plane c keeps;
+  // zero where the planes are parallel.
+  Eigen::Vector3d EdgeDirection(int a, int b, int c) const {
+    const Eigen::Vector3d line = set_.Normal(a).cross(set_.Normal(b));
+    const int face = set_.Plane(c).view == set_.Plane(b).view ? b : a;
+    return IntoFaceSide(set_, face, c).dot(line) < 0.0 ? Eigen::Vector3d(-line) : line;
+  }
+
+  // Moves to `put_off` the second task of each two on one line that are next to each other
+  // along it and face each other; the others keep their order.
+  void PutOffFacingPairs(std::vector<TraceTask>* tasks, std::vector<TraceTask>* put_off) const {
+    put_off->clear();
+    struct Place {
+      uint64_t line = 0;
+      double along = 0;
+      bool forward = false;
+      size_t task = 0;
+    };
+    std::vector<Place> places(tasks->size());
+    for (size_t t = 0; t < tasks->size(); ++t) {
+      const TraceTask& task = (*tasks)[t];
+      const Eigen::Vector3d line = set_.Normal(task.a).cross(set_.Normal(task.b));
+      places[t] = {static_cast<uint64_t>(task.a) << 32 | static_cast<uint32_t>(task.b),
+                   line.dot(graph_.vertices[static_cast<size_t>(task.from)].position),
+                   task.direction.dot(line) > 0.0, t};
+    }
+    std::sort(places.begin(), places.end(), [](const Place& x, const Place& y) {
+      return x.line != y.line     ? x.line < y.line
+             : x.along != y.along ? x.along < y.along
+                                  : x.task < y.task;
+    });
+    std::vector<bool> later(tasks->size(), false);
+    for (size_t k = 1; k < places.size(); ++k) {
+      const Place& before = places[k - 1];
+      const Place& after = places[k];
+      if (before.line == after.line && before.forward && !after.forward && !later[before.task])
+        later[after.task] = true;
+    }
+    size_t kept = 0;
+    for (size_t t = 0; t < tasks->size(); ++t) {
+      if (later[t]) {
+        put_off->push_back((*tasks)[t]);
+      } else {
+        (*tasks)[kept++] = (*tasks)[t];
+      }
+    }
+    tasks->resize(kept);
+  }
+
   void MarkDone(int vertex, int a, int b) {
     done_[static_cast<size_t>(vertex)] |=
         static_cast<uint8_t>(1u << PairSlot(graph_.vertices[static_cast<size_t>(vertex)].planes,
                                             std::min(a, b), std::max(a, b)));
   }
 
-  // The edge that leaves vertex `from` (on planes a < b and c) along the line of planes a and
-  // b, on the side that plane c keeps, up to the next vertex.
-  void TraceEdge(int from, int a, int b, int c) {
-    ++graph_.traced;
-    MarkDone(from, a, b);
+  // The edge that leaves vertex `task.from` (on planes a < b and c) along the line of planes
+  // a and b, on the side that plane c keeps: where it ends (plane -1 where the bounds box cuts
+  // it), nullopt where the line is degenerate or outside the box. Reads the graph only.
+  std::optional<EdgeEnd> TraceEdge(const TraceTask& task, ConeLineBuffers* buffers) const {
+    const auto& [from, a, b, c, direction] = task;
     const int view_a = set_.Plane(a).view, view_b = set_.Plane(b).view;
-    Eigen::Vector3d direction = set_.Normal(a).cross(set_.Normal(b));
-    if (!(direction.squaredNorm() > 0.0)) return;
-    const int c_view = set_.Plane(c).view;
-    const double rate = IntoFaceSide(set_, c_view == view_b ? b : a, c).dot(direction);
-    if (rate < 0.0) direction = -direction;
+    if (!(direction.squaredNorm() > 0.0)) return std::nullopt;
     const Eigen::Vector3d origin = graph_.vertices[static_cast<size_t>(from)].position;
     const ConeLine line{view_a, origin, direction};
     LineStretch range{0.0, std::numeric_limits<double>::infinity(), c, -1};
     NarrowToFace(set_, centres_[static_cast<size_t>(view_a)], a, origin, direction, &range);
     NarrowToFace(set_, centres_[static_cast<size_t>(view_b)], b, origin, direction, &range);
     const std::optional<LineStretch> boxed = ClipToBox(line, bounds_, range);
-    if (!boxed) return;
-    const LineStretch edge = FirstExit(set_, centres_, line, *boxed, view_a, view_b, c, &buffers_);
-    const int to = End(a, b, edge.hi_plane, origin + edge.hi * direction);
-    if (to < 0) return;
-    MarkDone(to, a, b);
-    graph_.edges.push_back({a, b, from, to});
+    if (!boxed) return std::nullopt;
+    const LineStretch edge = FirstExit(set_, centres_, line, *boxed, view_a, view_b, c, buffers);
+    return EdgeEnd{edge.hi_plane, origin + edge.hi * direction};
   }
 
   const ConePlaneSet& set_;
@@ -139,7 +240,6 @@ class EdgeTracer {
   HullEdgeGraph graph_;
   absl::flat_hash_map<PlaneTriple, int> vertex_;
   std::vector<uint8_t> done_;  // per vertex, the plane pairs whose edge is known (PairSlot bits)
-  ConeLineBuffers buffers_;
 };
 
 }  // namespace
@@ -160,13 +260,13 @@ Eigen::Vector3d IntoFaceSide(const ConePlaneSet& set, int face, int bound) {
 }
 
 HullEdgeGraph TraceHullEdges(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
-                             const WorldBox& bounds,
-                             const std::vector<ViewingEdge>& viewing_edges) {
+                             const WorldBox& bounds, const std::vector<ViewingEdge>& viewing_edges,
+                             int threads) {
   SILNET_CHECK(cameras.size() == set.Views());
   EdgeTracer tracer(cameras, set, bounds);
   for (const ViewingEdge& edge : viewing_edges)
     tracer.AddViewingEdge(edge);
-  return tracer.Finish();
+  return tracer.Finish(threads);
 }
 
 }  // namespace silnet::aggregator

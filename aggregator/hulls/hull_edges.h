@@ -5,8 +5,9 @@
 // edge). From each vertex found, starting with the viewing edges' ends, each such edge is
 // followed along the line where the two faces meet, away from the third face, up to the first
 // point where it leaves either face's wedge or another view's cone (cone_line_stretches.h):
-// the next vertex. Each edge is traced once, from whichever end is found first. Every vertex
-// is named by its three cone planes, so the faces that meet there share it without tolerances.
+// the next vertex. Each edge is kept once, traced from whichever end is found first (or from
+// both, where one round of the tracing finds both). Every vertex is named by its three cone
+// planes, so the faces that meet there share it without tolerances.
 //
 // The polyhedral hull (polyhedral_hull.h) builds its mesh from these (traced_hull_mesh.h);
 // the tests compare them with the vertices and edges of its face-by-face sweeps.
@@ -57,8 +58,10 @@ struct HullEdgeGraph {
 };
 
 // Traces the hull's edges from `viewing_edges` (ComputeViewingEdges of the same `cameras`,
-// `set` and `bounds`). Deterministic: vertices and edges in the order they are found.
+// `set` and `bounds`) on `threads` threads. Deterministic: vertices and edges in the order
+// they are found, whatever the number of threads.
 HullEdgeGraph TraceHullEdges(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
-                             const WorldBox& bounds, const std::vector<ViewingEdge>& viewing_edges);
+                             const WorldBox& bounds, const std::vector<ViewingEdge>& viewing_edges,
+                             int threads = 1);
 
 }  // namespace silnet::aggregator

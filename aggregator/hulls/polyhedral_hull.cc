@@ -180,7 +180,7 @@ HullAssembly TracedHull(const std::vector<CameraModel>& cameras, const ConePlane
   HullAssembly assembly;
   const std::vector<ViewingEdge> viewing =
       ComputeViewingEdges(cameras, set, bounds, options.threads);
-  const HullEdgeGraph graph = TraceHullEdges(cameras, set, bounds, viewing);
+  const HullEdgeGraph graph = TraceHullEdges(cameras, set, bounds, viewing, options.threads);
   TracedHullMesh traced = AssembleTracedHull(set, graph);
   if (!traced.success || graph.open_ends > 0 || traced.mesh.triangles.empty()) return assembly;
   if (!CheckClosedManifold(traced.mesh).closed_manifold) return assembly;

@@ -10,11 +10,12 @@
 namespace silnet {
 namespace {
 
-// Random blobs, lone pixels at the borders and rows, widths that are not multiples of eight,
+// Random blobs, lone pixels at the borders and rows, widths that are not multiples of eight
+// (or of the 64-byte blocks scanned at once),
 // and views into larger images: the same box as OpenCV's full scan.
 TEST(ForegroundBoxTest, MatchesOpenCvsBoundingRectOnRandomMasks) {
   std::mt19937 random(7);
-  std::uniform_int_distribution<int> size(1, 150);
+  std::uniform_int_distribution<int> size(1, 300);
   for (int trial = 0; trial < 400; ++trial) {
     const int width = size(random), height = size(random);
     cv::Mat mask = cv::Mat::zeros(height, width, CV_8UC1);

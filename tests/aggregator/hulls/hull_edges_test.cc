@@ -2,8 +2,8 @@
 // the edges traced from them (hull_edges.h) against the polyhedral hull, which finds the same
 // vertices face by face: every end of a viewing edge is a vertex of the hull on the same three
 // cone faces at the same place, the traced vertices are exactly the hull's, and the traced
-// edges exactly its mesh edges along two cone faces, on the analytic sphere ring and on EPVH's
-// alien set.
+// edges exactly its mesh edges along two cone faces (the same graph traced on two threads),
+// on the analytic sphere ring and on EPVH's alien set.
 
 #include "aggregator/hulls/hull_edges.h"
 
@@ -96,6 +96,20 @@ void ExpectEdgesAreTheHullsOwn(const std::vector<CameraModel>& cameras,
   // The edges traced from them: the hull's vertices and its edges along two cone faces.
   const HullEdgeGraph graph = TraceHullEdges(cameras, set, box, edges);
   EXPECT_EQ(graph.open_ends, 0u);
+  // The same graph, in the same order, on two threads.
+  const HullEdgeGraph parallel = TraceHullEdges(cameras, set, box, edges, 2);
+  ASSERT_EQ(parallel.vertices.size(), graph.vertices.size());
+  ASSERT_EQ(parallel.edges.size(), graph.edges.size());
+  EXPECT_EQ(parallel.traced, graph.traced);
+  for (size_t v = 0; v < graph.vertices.size(); ++v) {
+    EXPECT_EQ(parallel.vertices[v].planes, graph.vertices[v].planes);
+    EXPECT_EQ(parallel.vertices[v].position, graph.vertices[v].position);
+  }
+  for (size_t e = 0; e < graph.edges.size(); ++e) {
+    const HullEdge& x = graph.edges[e];
+    const HullEdge& y = parallel.edges[e];
+    EXPECT_TRUE(x.a == y.a && x.b == y.b && x.from == y.from && x.to == y.to) << "edge " << e;
+  }
   EXPECT_EQ(graph.vertices.size(), hull.stats.viewing_edge_vertices + hull.stats.triple_points);
   EXPECT_EQ(graph.vertices.size(), hull_vertex.size());
   double worst_vertex = 0;
