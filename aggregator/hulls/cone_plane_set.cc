@@ -288,8 +288,11 @@ bool ConePlaneSet::EdgesNearSegment(int view, const Eigen::Vector2d& a, const Ei
   const bool level = !(w.y() > u.y());
   const double dx_dy = level ? 0.0 : (w.x() - u.x()) / (w.y() - u.y());
   const auto x_at = [&](double y) { return u.x() + dx_dy * (y - u.y()); };
-  const int r0 = std::max(0, static_cast<int>(u.y()));
-  const int r1 = std::min(cells.rows - 1, static_cast<int>(w.y()));
+  // Clamped before the conversion: a point near a camera's plane projects very far.
+  const auto index = [](double value, int count) {
+    return static_cast<int>(std::clamp(value, 0.0, count - 1.0));
+  };
+  const int r0 = index(u.y(), cells.rows), r1 = index(w.y(), cells.rows);
   const size_t first = out.size();
   size_t visited = 0;
   // Row by row, the columns of the part of the segment within the row's band.
@@ -298,8 +301,7 @@ bool ConePlaneSet::EdgesNearSegment(int view, const Eigen::Vector2d& a, const Ei
     const double x_hi = level ? w.x() : x_at(std::min(w.y(), static_cast<double>(r + 1)));
     const double left = std::min(x_lo, x_hi), right = std::max(x_lo, x_hi);
     if (right < 0 || left >= cells.cols) continue;
-    const int c0 = std::max(0, static_cast<int>(left));
-    const int c1 = std::min(cells.cols - 1, static_cast<int>(right));
+    const int c0 = index(left, cells.cols), c1 = index(right, cells.cols);
     visited += static_cast<size_t>(c1 - c0 + 1);
     if (visited > max_cells) {
       out.resize(first);
