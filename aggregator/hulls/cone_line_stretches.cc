@@ -40,6 +40,14 @@ bool OnFace(const ConePlaneSet& set, const ConeLine& line, int other, int q, dou
   return s >= 0.0 && s < 1.0;
 }
 
+// Appends the faces of view `other` that the epipolar index offers for `range` of `line`.
+void EpipolarCandidates(const ConePlaneSet& set, const std::vector<Eigen::Vector3d>& centres,
+                        const ConeLine& line, int other, const LineStretch& range,
+                        std::vector<int>& out) {
+  set.CandidateEdges(line.seen_from, other, SeenDirection(centres, line, range.lo),
+                     SeenDirection(centres, line, range.hi), out);
+}
+
 // The crossings within `range` of `line` with view `other`'s cone faces that the epipolar
 // index offers, sorted along the line.
 void FindCrossings(const ConePlaneSet& set, const std::vector<Eigen::Vector3d>& centres,
@@ -47,8 +55,7 @@ void FindCrossings(const ConePlaneSet& set, const std::vector<Eigen::Vector3d>& 
                    ConeLineBuffers* buffers) {
   buffers->candidates.clear();
   buffers->crossings.clear();
-  set.CandidateEdges(line.seen_from, other, SeenDirection(centres, line, range.lo),
-                     SeenDirection(centres, line, range.hi), buffers->candidates);
+  EpipolarCandidates(set, centres, line, other, range, buffers->candidates);
   for (const int q : buffers->candidates) {
     const double along = set.Normal(q).dot(line.direction);
     if (along == 0.0) continue;
@@ -73,8 +80,7 @@ void ShortRangeCandidates(const ConePlaneSet& set, const std::vector<Eigen::Vect
       set.EdgesNearSegment(other, a.hnormalized(), b.hnormalized(), kTracedEdgeCells, out)) {
     return;
   }
-  set.CandidateEdges(line.seen_from, other, SeenDirection(centres, line, range.lo),
-                     SeenDirection(centres, line, range.hi), out);
+  EpipolarCandidates(set, centres, line, other, range, out);
 }
 
 // The stretches of `range` inside view `other`'s cone, from the sorted crossings (a line with

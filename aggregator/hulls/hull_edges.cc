@@ -51,11 +51,14 @@ int PairSlot(const PlaneTriple& planes, int a, int b) {
 // Edges traced per chunk of a round's tasks on one thread.
 constexpr size_t kTasksPerChunk = 256;
 
-// An edge to trace: from vertex `from` along the line of planes a < b in `direction`, away
-// from plane c.
+// An edge to trace: from vertex `from` along the line of planes a < b, away from plane c:
+// along `line` (normal a x normal b) if `forward`, else against it.
 struct TraceTask {
   int from = -1, a = -1, b = -1, c = -1;
-  Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+  Eigen::Vector3d line = Eigen::Vector3d::Zero();
+  bool forward = true;
+
+  Eigen::Vector3d Direction() const { return forward ? line : Eigen::Vector3d(-line); }
 };
 
 // Where a traced edge ends: on `plane` (-1 where the bounds box cut it) at `position`.
@@ -109,7 +112,9 @@ class EdgeTracer {
                                       PlaneTriple{planes[1], planes[2], planes[0]}}) {
           TraceTask task{static_cast<int>(v), a, b, c};
           if (set_.Plane(a).view == set_.Plane(b).view || Done(task)) continue;
-          task.direction = EdgeDirection(a, b, c);
+          task.line = set_.Normal(a).cross(set_.Normal(b));
+          const int face = set_.Plane(c).view == set_.Plane(b).view ? b : a;
+          task.forward = !(IntoFaceSide(set_, face, c).dot(task.line) < 0.0);
           tasks.push_back(task);
         }
       }
@@ -161,14 +166,6 @@ class EdgeTracer {
     return done_[from] & (1u << PairSlot(graph_.vertices[from].planes, task.a, task.b));
   }
 
-  // The direction of an edge along the line of planes a and b into the side plane c keeps;
-  // zero where the planes are parallel.
-  Eigen::Vector3d EdgeDirection(int a, int b, int c) const {
-    const Eigen::Vector3d line = set_.Normal(a).cross(set_.Normal(b));
-    const int face = set_.Plane(c).view == set_.Plane(b).view ? b : a;
-    return IntoFaceSide(set_, face, c).dot(line) < 0.0 ? Eigen::Vector3d(-line) : line;
-  }
-
   // Moves to `put_off` the second task of each two on one line that are next to each other
   // along it and face each other; the others keep their order.
   void PutOffFacingPairs(std::vector<TraceTask>* tasks, std::vector<TraceTask>* put_off) const {
@@ -182,10 +179,9 @@ class EdgeTracer {
     std::vector<Place> places(tasks->size());
     for (size_t t = 0; t < tasks->size(); ++t) {
       const TraceTask& task = (*tasks)[t];
-      const Eigen::Vector3d line = set_.Normal(task.a).cross(set_.Normal(task.b));
       places[t] = {static_cast<uint64_t>(task.a) << 32 | static_cast<uint32_t>(task.b),
-                   line.dot(graph_.vertices[static_cast<size_t>(task.from)].position),
-                   task.direction.dot(line) > 0.0, t};
+                   task.line.dot(graph_.vertices[static_cast<size_t>(task.from)].position),
+                   task.forward, t};
     }
     std::sort(places.begin(), places.end(), [](const Place& x, const Place& y) {
       return x.line != y.line     ? x.line < y.line
@@ -220,8 +216,9 @@ class EdgeTracer {
   // a and b, on the side that plane c keeps: where it ends (plane -1 where the bounds box cuts
   // it), nullopt where the line is degenerate or outside the box. Reads the graph only.
   std::optional<EdgeEnd> TraceEdge(const TraceTask& task, ConeLineBuffers* buffers) const {
-    const auto& [from, a, b, c, direction] = task;
+    const int from = task.from, a = task.a, b = task.b, c = task.c;
     const int view_a = set_.Plane(a).view, view_b = set_.Plane(b).view;
+    const Eigen::Vector3d direction = task.Direction();
     if (!(direction.squaredNorm() > 0.0)) return std::nullopt;
     const Eigen::Vector3d origin = graph_.vertices[static_cast<size_t>(from)].position;
     const ConeLine line{view_a, origin, direction};
