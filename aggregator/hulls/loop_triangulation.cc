@@ -1,5 +1,6 @@
 #include "aggregator/hulls/loop_triangulation.h"
 
+#include <absl/container/inlined_vector.h>
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
@@ -7,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <span>
 
 namespace silnet::aggregator {
 namespace {
@@ -230,9 +232,10 @@ class EarClipper {
 
 LoopTriangulation TriangulateLoops(const std::vector<std::vector<Eigen::Vector2d>>& loops) {
   LoopTriangulation result;
-  std::vector<int> first(loops.size());
-  std::vector<double> areas(loops.size());
-  std::vector<size_t> outers, holes;
+  // Most faces have one loop: these stay off the heap.
+  absl::InlinedVector<int, 4> first(loops.size());
+  absl::InlinedVector<double, 4> areas(loops.size());
+  absl::InlinedVector<size_t, 4> outers, holes;
   double region_area = 0, scale = 0;
   int count = 0;
   // Rounding errors of areas are relative to the extent of the points, not to the region's
@@ -262,8 +265,8 @@ LoopTriangulation TriangulateLoops(const std::vector<std::vector<Eigen::Vector2d
       return result;
     }
   }
-  // Each hole to the smallest outer loop around it.
-  std::vector<std::vector<size_t>> holes_of(loops.size());
+  // Each hole to the smallest outer loop around it (none allocated for a face without holes).
+  std::vector<std::vector<size_t>> holes_of(holes.empty() ? 0 : loops.size());
   for (const size_t hole : holes) {
     size_t owner = loops.size();
     if (outers.size() == 1) {
@@ -296,7 +299,7 @@ LoopTriangulation TriangulateLoops(const std::vector<std::vector<Eigen::Vector2d
   for (const size_t outer : outers) {
     const int ring = clipper.AddRing(loops[outer], first[outer]);
     std::vector<std::pair<double, int>> hole_rings;
-    for (const size_t hole : holes_of[outer]) {
+    for (const size_t hole : holes_of.empty() ? std::span<const size_t>() : holes_of[outer]) {
       const int start = clipper.AddRing(loops[hole], first[hole]);
       const auto leftmost = std::min_element(
           loops[hole].begin(), loops[hole].end(),

@@ -5,6 +5,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <cstdint>
+#include <span>
 #include <vector>
 
 #include "aggregator/hulls/loop_triangulation.h"
@@ -18,34 +20,61 @@ struct FaceEdge {
   int from = -1, to = -1;
 };
 
-// Appends `edge` to face `face`'s list, directed so that the face lies on its left seen from
-// outside (along -normal: the hull lies on the positive side of its cone planes).
-void AddDirected(const ConePlaneSet& set, const HullEdgeGraph& graph, int face, int other,
-                 const HullEdge& edge, std::vector<FaceEdge>* edges) {
+// `edge` as an edge of face `face` (the other face on it `other`), directed so that the face
+// lies on its left seen from outside (along -normal: the hull lies on the positive side of its
+// cone planes).
+FaceEdge Directed(const ConePlaneSet& set, const HullEdgeGraph& graph, int face, int other,
+                  const HullEdge& edge) {
   const Eigen::Vector3d along = graph.vertices[static_cast<size_t>(edge.to)].position -
                                 graph.vertices[static_cast<size_t>(edge.from)].position;
   const Eigen::Vector3d outward = -set.Normal(face);
   // Left of `along` seen from outside: outward x along.
   const bool forward = outward.cross(along).dot(IntoFaceSide(set, face, other)) > 0.0;
-  edges->push_back(forward ? FaceEdge{edge.from, edge.to} : FaceEdge{edge.to, edge.from});
+  return forward ? FaceEdge{edge.from, edge.to} : FaceEdge{edge.to, edge.from};
+}
+
+// Every face's directed edges in the graph's edge order: face f's are
+// edges[starts[f], starts[f + 1]).
+struct EdgesByFace {
+  std::vector<uint32_t> starts;
+  std::vector<FaceEdge> edges;
+};
+
+EdgesByFace SortEdgesByFace(const ConePlaneSet& set, const HullEdgeGraph& graph) {
+  EdgesByFace by_face;
+  by_face.starts.assign(set.Planes().size() + 1, 0);
+  for (const HullEdge& edge : graph.edges) {
+    ++by_face.starts[static_cast<size_t>(edge.a) + 1];
+    ++by_face.starts[static_cast<size_t>(edge.b) + 1];
+  }
+  for (size_t f = 1; f < by_face.starts.size(); ++f)
+    by_face.starts[f] += by_face.starts[f - 1];
+  by_face.edges.resize(by_face.starts.back());
+  std::vector<uint32_t> fill(by_face.starts.begin(), by_face.starts.end() - 1);
+  for (const HullEdge& edge : graph.edges) {
+    by_face.edges[fill[static_cast<size_t>(edge.a)]++] = Directed(set, graph, edge.a, edge.b, edge);
+    by_face.edges[fill[static_cast<size_t>(edge.b)]++] = Directed(set, graph, edge.b, edge.a, edge);
+  }
+  return by_face;
 }
 
 }  // namespace
 
 TracedHullMesh AssembleTracedHull(const ConePlaneSet& set, const HullEdgeGraph& graph) {
   TracedHullMesh result;
-  std::vector<std::vector<FaceEdge>> face_edges(set.Planes().size());
-  for (const HullEdge& edge : graph.edges) {
-    AddDirected(set, graph, edge.a, edge.b, edge, &face_edges[static_cast<size_t>(edge.a)]);
-    AddDirected(set, graph, edge.b, edge.a, edge, &face_edges[static_cast<size_t>(edge.b)]);
-  }
+  const EdgesByFace by_face = SortEdgesByFace(set, graph);
+  result.mesh.vertices.reserve(graph.vertices.size());
+  result.mesh.triangles.reserve(2 * graph.vertices.size());  // Euler: a sphere's count
   for (const HullEdgeVertex& v : graph.vertices)
     result.mesh.vertices.push_back(v.position.cast<float>());
   std::vector<int> next(graph.vertices.size(), -1);
+  // Reused from face to face (their inner vectors keep their room).
   std::vector<std::vector<int>> loops;
   std::vector<std::vector<Eigen::Vector2d>> chart_loops;
-  for (size_t f = 0; f < face_edges.size(); ++f) {
-    const std::vector<FaceEdge>& edges = face_edges[f];
+  std::vector<int> flat;
+  for (size_t f = 0; f + 1 < by_face.starts.size(); ++f) {
+    const std::span<const FaceEdge> edges(by_face.edges.data() + by_face.starts[f],
+                                          by_face.starts[f + 1] - by_face.starts[f]);
     if (edges.empty()) continue;
     ++result.faces;
     for (const FaceEdge& e : edges) {
@@ -58,12 +87,18 @@ TracedHullMesh AssembleTracedHull(const ConePlaneSet& set, const HullEdgeGraph& 
     // The face's chart: a right-handed basis seen from outside.
     const Eigen::Vector3d outward = -set.Normal(static_cast<int>(f)).normalized();
     const Eigen::Vector3d u = outward.unitOrthogonal(), w = outward.cross(u);
-    loops.clear();
-    chart_loops.clear();
+    size_t used = 0;
     for (const FaceEdge& e : edges) {
       if (next[static_cast<size_t>(e.from)] < 0) continue;  // already in a loop
-      std::vector<int>& loop = loops.emplace_back();
-      std::vector<Eigen::Vector2d>& chart = chart_loops.emplace_back();
+      if (loops.size() == used) {
+        loops.emplace_back();
+        chart_loops.emplace_back();
+      }
+      std::vector<int>& loop = loops[used];
+      std::vector<Eigen::Vector2d>& chart = chart_loops[used];
+      ++used;
+      loop.clear();
+      chart.clear();
       int v = e.from;
       while (next[static_cast<size_t>(v)] >= 0) {
         loop.push_back(v);
@@ -78,13 +113,15 @@ TracedHullMesh AssembleTracedHull(const ConePlaneSet& set, const HullEdgeGraph& 
         return result;
       }
     }
-    result.loops += loops.size();
+    loops.resize(used);
+    chart_loops.resize(used);
+    result.loops += used;
     const LoopTriangulation triangulation = TriangulateLoops(chart_loops);
     if (!triangulation.success) {
       result.reason = fmt::format("face {}: {}", f, triangulation.reason);
       return result;
     }
-    std::vector<int> flat;
+    flat.clear();
     for (const std::vector<int>& loop : loops)
       flat.insert(flat.end(), loop.begin(), loop.end());
     for (const std::array<int, 3>& t : triangulation.triangles) {
