@@ -72,9 +72,14 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
                            double perturbation_px, int threads) {
   const size_t views = cameras.size();
   view_planes_.resize(views);
+  size_t contour_points = 0;
+  for (const SilhouetteContours& view : contours)
+    contour_points += view.PointCount();
+  planes_.reserve(contour_points);
   for (size_t v = 0; v < views; ++v) {
     projections_.push_back(cameras[v].ProjectionMatrix());
     pixel_to_ray_.push_back(cameras[v].R.transpose() * cameras[v].K.inverse());
+    view_planes_[v].reserve(contours[v].PointCount());
     const auto add_ring = [&](const std::vector<Eigen::Vector2f>& ring) {
       std::vector<Eigen::Vector2d> points;
       for (const Eigen::Vector2f& point : ring) {
@@ -169,6 +174,7 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
       if (toward.norm() < 1e-12) toward = b.unitOrthogonal();
       pair.u1 = toward.normalized();
       pair.u2 = b.cross(pair.u1);
+      pair.arcs.reserve(view_planes_[j].size());
       for (int index : view_planes_[j]) {
         const double a = Angle(pair, rays_[static_cast<size_t>(index)]);
         const double c = Angle(pair, rays_[static_cast<size_t>(Plane(index).next)]);

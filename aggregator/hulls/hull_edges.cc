@@ -100,6 +100,7 @@ class EdgeTracer {
   HullEdgeGraph Finish(int threads) {
     std::vector<TraceTask> tasks, put_off;
     std::vector<std::optional<EdgeEnd>> ends;
+    std::vector<ConeLineBuffers> buffers;  // per chunk of a round, kept for their room
     for (size_t round_start = 0; round_start < graph_.vertices.size() || !put_off.empty();) {
       const size_t round_end = graph_.vertices.size();
       tasks.clear();
@@ -122,11 +123,11 @@ class EdgeTracer {
       PutOffFacingPairs(&tasks, &put_off);
       ends.assign(tasks.size(), std::nullopt);
       const size_t chunks = (tasks.size() + kTasksPerChunk - 1) / kTasksPerChunk;
+      if (buffers.size() < chunks) buffers.resize(chunks);
       ParallelFor(chunks, tasks.size() >= kTasksPerChunk ? threads : 1, [&](size_t k) {
-        ConeLineBuffers buffers;
         for (size_t t = k * kTasksPerChunk; t < std::min(tasks.size(), (k + 1) * kTasksPerChunk);
              ++t)
-          ends[t] = TraceEdge(tasks[t], &buffers);
+          ends[t] = TraceEdge(tasks[t], &buffers[k]);
       });
       for (size_t t = 0; t < tasks.size(); ++t) {
         if (Done(tasks[t])) continue;  // traced from its other end earlier in this round

@@ -223,7 +223,7 @@ class EarClipper {
     nodes_[static_cast<size_t>(b2)].prev = bp;
   }
 
-  std::vector<Node> nodes_;
+  absl::InlinedVector<Node, 16> nodes_;  // most faces have fewer points: no allocation
   std::vector<std::array<int, 3>>& triangles_;
   double rounding_;
 };
