@@ -68,8 +68,8 @@ TracedHullMesh AssembleTracedHull(const ConePlaneSet& set, const HullEdgeGraph& 
   for (const HullEdgeVertex& v : graph.vertices)
     result.mesh.vertices.push_back(v.position.cast<float>());
   std::vector<int> next(graph.vertices.size(), -1);
-  // Reused from face to face (their inner vectors keep their room).
-  std::vector<std::vector<int>> loops;
+  // Reused from face to face: the face's loops in its chart (their inner vectors keep their
+  // room) and their vertices one loop after another, as the triangulation numbers them.
   std::vector<std::vector<Eigen::Vector2d>> chart_loops;
   std::vector<int> flat;
   for (size_t f = 0; f + 1 < by_face.starts.size(); ++f) {
@@ -88,32 +88,26 @@ TracedHullMesh AssembleTracedHull(const ConePlaneSet& set, const HullEdgeGraph& 
     const Eigen::Vector3d outward = -set.Normal(static_cast<int>(f)).normalized();
     const Eigen::Vector3d u = outward.unitOrthogonal(), w = outward.cross(u);
     size_t used = 0;
+    flat.clear();
     for (const FaceEdge& e : edges) {
       if (next[static_cast<size_t>(e.from)] < 0) continue;  // already in a loop
-      if (loops.size() == used) {
-        loops.emplace_back();
-        chart_loops.emplace_back();
-      }
-      std::vector<int>& loop = loops[used];
-      std::vector<Eigen::Vector2d>& chart = chart_loops[used];
-      ++used;
-      loop.clear();
+      if (chart_loops.size() == used) chart_loops.emplace_back();
+      std::vector<Eigen::Vector2d>& chart = chart_loops[used++];
       chart.clear();
       int v = e.from;
       while (next[static_cast<size_t>(v)] >= 0) {
-        loop.push_back(v);
+        flat.push_back(v);
         const Eigen::Vector3d& x = graph.vertices[static_cast<size_t>(v)].position;
         chart.emplace_back(x.dot(u), x.dot(w));
         const int to = next[static_cast<size_t>(v)];
         next[static_cast<size_t>(v)] = -1;
         v = to;
       }
-      if (loop.size() < 3 || v != e.from) {
+      if (chart.size() < 3 || v != e.from) {
         result.reason = fmt::format("face {}: its edges do not close into loops", f);
         return result;
       }
     }
-    loops.resize(used);
     chart_loops.resize(used);
     result.loops += used;
     const LoopTriangulation triangulation = TriangulateLoops(chart_loops);
@@ -121,9 +115,6 @@ TracedHullMesh AssembleTracedHull(const ConePlaneSet& set, const HullEdgeGraph& 
       result.reason = fmt::format("face {}: {}", f, triangulation.reason);
       return result;
     }
-    flat.clear();
-    for (const std::vector<int>& loop : loops)
-      flat.insert(flat.end(), loop.begin(), loop.end());
     for (const std::array<int, 3>& t : triangulation.triangles) {
       result.mesh.triangles.push_back({flat[static_cast<size_t>(t[0])],
                                        flat[static_cast<size_t>(t[1])],
