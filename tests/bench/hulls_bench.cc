@@ -1,6 +1,7 @@
 // Visual hull benchmarks: one frame of 8 views at 640x480 (simulated walking person), one
 // core: voxel carving at 1 cm and 2 cm, surface extraction, the exact polyhedral hull, and
-// sub-frame interpolation; the exact hull of the real captures in the shared data folder.
+// sub-frame interpolation; the exact hull of an exactly symmetric ring and of the real
+// captures in the shared data folder.
 //   build/tests/bench/silnet_hulls_bench
 
 #include <benchmark/benchmark.h>
