@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
-#include <optional>
 
 #include "aggregator/hulls/coincident_cameras.h"
 #include "aggregator/hulls/cone_face_region.h"
@@ -258,24 +257,9 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     return result;
   }
   const ConePlaneSet set(cameras, contours, bounds, 0, options.threads);
-  // The planes of the perturbed contours, built for the first retry that needs them.
-  std::optional<ConePlaneSet> perturbed;
-  const auto perturbed_set = [&]() -> const ConePlaneSet& {
-    if (!perturbed)
-      perturbed.emplace(cameras, contours, bounds, options.contour_perturbation_px,
-                        options.threads);
-    return *perturbed;
-  };
   if (options.trace_edges && options.faces_as_polygons) {
     HullAssembly traced = TracedHull(cameras, set, bounds, options);
     if (traced.closed) return Finished(std::move(traced.result));
-    if (options.contour_perturbation_px > 0) {
-      traced = TracedHull(cameras, perturbed_set(), bounds, options);
-      if (traced.closed) {
-        traced.result.stats.contours_perturbed = true;
-        return Finished(std::move(traced.result));
-      }
-    }
   }
   std::vector<FaceRegion> regions;
   if (!ComputeFaceRegions(cameras, set, bounds, options.threads, &regions, &result.reason))
@@ -284,11 +268,13 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     HullAssembly assembly = AssembleHull(set, regions, bounds, options, false);
     if (assembly.closed) return Finished(std::move(assembly.result));
     if (options.contour_perturbation_px > 0) {
+      const ConePlaneSet perturbed(cameras, contours, bounds, options.contour_perturbation_px,
+                                   options.threads);
       std::vector<FaceRegion> perturbed_regions;
       std::string reason;
-      if (ComputeFaceRegions(cameras, perturbed_set(), bounds, options.threads, &perturbed_regions,
+      if (ComputeFaceRegions(cameras, perturbed, bounds, options.threads, &perturbed_regions,
                              &reason)) {
-        assembly = AssembleHull(perturbed_set(), perturbed_regions, bounds, options, false);
+        assembly = AssembleHull(perturbed, perturbed_regions, bounds, options, false);
         if (assembly.closed) {
           assembly.result.stats.contours_perturbed = true;
           return Finished(std::move(assembly.result));

@@ -43,8 +43,8 @@ struct PolyhedralHullStats {
   // mesh vertices), not as polygons of the hull's own vertices: a near-degenerate face made
   // the faster assembly fail.
   bool faces_with_cuts = false;
-  // The traced edges (or faces) of the plain contours did not close; these are from the
-  // perturbed ones (PolyhedralHullOptions::contour_perturbation_px).
+  // The faces of the plain contours did not close; these are from the perturbed ones
+  // (PolyhedralHullOptions::contour_perturbation_px).
   bool contours_perturbed = false;
   // Gaps between faces that decided a near-degenerate configuration differently, filled in
   // the cone plane their outline lies on (in_plane_gap_filler.h): how many, their area (square
@@ -99,14 +99,13 @@ struct PolyhedralHullOptions {
   double contour_cover_margin_px = 0.1;
   double contour_cover_background_slack_px = 0.15;  // see CoveringOptions
   double bounds_padding = 0.05;  // viewing-cone bounds are grown by this fraction per side
-  // Where the hull's traced edges (and then the faces' sweeps) do not close, they are traced
-  // (and swept) again from contour points moved by fixed pseudo-random offsets up to this
-  // (pixels per coordinate; 0: not tried), before the assembly with the cuts: that breaks the
-  // exact coincidences of symmetric rigs (ConePlaneSet). Exactly symmetric rings of 6-24
-  // cameras around a sphere did not close in 25 of 40 configurations without it; all close
-  // from their perturbed traced edges, no gap filled. The hull moves by as little. Only a
-  // retry: on data the plain contours close, perturbed ones give the sweeps more gaps to fill
-  // (where coincidences the faces agree on become near-coincidences they may not).
+  // Where the faces' polygons do not close, the hull is computed again from contour points
+  // moved by fixed pseudo-random offsets up to this (pixels per coordinate; 0: not tried),
+  // before the assembly with the cuts: that breaks the exact coincidences of symmetric rigs
+  // (ConePlaneSet). Exactly symmetric rings of 6-24 cameras around a sphere did not close in
+  // 25 of 40 configurations without it; all do with it. The hull moves by as little. Only a
+  // retry: on data the plain contours close, perturbed ones need more gaps filled (where
+  // coincidences the faces agree on become near-coincidences they may not).
   double contour_perturbation_px = 1e-3;
   // Threads for the contours, the cone planes' indexes, the cone faces and the faces'
   // polygons (0 = every core); the mesh is built in plane order and is the same for any count.
@@ -117,8 +116,7 @@ struct PolyhedralHullOptions {
   bool faces_as_polygons = true;
   // The hull's edges traced once from its viewing edges and its faces closed from them
   // (viewing_edges.h, hull_edges.h, traced_hull_mesh.h: 1.3-3x faster on the real datasets),
-  // then from the perturbed contours, with the face-by-face sweeps below only where those
-  // meshes are empty or not closed; false:
+  // with the face-by-face sweeps below only where that mesh is empty or not closed; false:
   // the sweeps only (for tests and comparisons).
   bool trace_edges = true;
   // A silhouette the image border cuts continues beyond the frame: > 0 extends such masks by
