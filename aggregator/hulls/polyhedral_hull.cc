@@ -257,7 +257,8 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     return result;
   }
   const ConePlaneSet set(cameras, contours, bounds, 0, options.threads);
-  if (options.trace_edges && options.faces_as_polygons) {
+  const bool trace = options.trace_edges && options.faces_as_polygons;
+  if (trace) {
     HullAssembly traced = TracedHull(cameras, set, bounds, options);
     if (traced.closed) return Finished(std::move(traced.result));
   }
@@ -270,6 +271,13 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     if (options.contour_perturbation_px > 0) {
       const ConePlaneSet perturbed(cameras, contours, bounds, options.contour_perturbation_px,
                                    options.threads);
+      if (trace) {
+        assembly = TracedHull(cameras, perturbed, bounds, options);
+        if (assembly.closed) {
+          assembly.result.stats.contours_perturbed = true;
+          return Finished(std::move(assembly.result));
+        }
+      }
       std::vector<FaceRegion> perturbed_regions;
       std::string reason;
       if (ComputeFaceRegions(cameras, perturbed, bounds, options.threads, &perturbed_regions,

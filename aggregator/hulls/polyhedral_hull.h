@@ -10,12 +10,13 @@
 // the planes that meet there, so neighbouring faces agree on them without tolerances. Each
 // face is triangulated as the polygon it is (face_boundary_loops.h, loop_triangulation.h),
 // without extra points, and the assembled mesh is checked to be closed and manifold. Where
-// that fails, the faces are computed again as polygons from slightly perturbed contours (the
-// exact coincidences of symmetric rigs), and where that fails too, assembled from their
-// sweeps' trapezoids, whose cuts on an edge both faces of the edge share (4-5 times the
-// triangles). Where faces decide a near-degenerate configuration differently, the gap they
-// leave is filled in the cone plane its outline lies on (in_plane_gap_filler.h); a mesh that
-// is still not closed is reported as a failure, and callers fall back to the voxel hull.
+// that fails, the hull is traced again from slightly perturbed contours (the exact
+// coincidences of symmetric rigs), then computed face by face from them, and where that fails
+// too, assembled from the plain faces' sweeps' trapezoids, whose cuts on an edge both faces of the
+// edge share (4-5 times the triangles). Where faces decide a near-degenerate configuration
+// differently, the gap they leave is filled in the cone plane its outline lies on
+// (in_plane_gap_filler.h); a mesh that is still not closed is reported as a failure, and callers
+// fall back to the voxel hull.
 //
 // Distortion is removed from contour points before building the cones (contour edges become
 // straight in the undistorted image).
@@ -99,13 +100,14 @@ struct PolyhedralHullOptions {
   double contour_cover_margin_px = 0.1;
   double contour_cover_background_slack_px = 0.15;  // see CoveringOptions
   double bounds_padding = 0.05;  // viewing-cone bounds are grown by this fraction per side
-  // Where the faces' polygons do not close, the hull is computed again from contour points
-  // moved by fixed pseudo-random offsets up to this (pixels per coordinate; 0: not tried),
-  // before the assembly with the cuts: that breaks the exact coincidences of symmetric rigs
+  // Where neither the traced edges nor the faces' polygons of the plain contours close, the
+  // hull is traced and then computed face by face again from contour points moved by fixed
+  // pseudo-random offsets up to this (pixels per coordinate; 0: not tried), before the
+  // assembly with the cuts: that breaks the exact coincidences of symmetric rigs
   // (ConePlaneSet). Exactly symmetric rings of 6-24 cameras around a sphere did not close in
-  // 25 of 40 configurations without it; all do with it. The hull moves by as little. Only a
-  // retry: on data the plain contours close, perturbed ones need more gaps filled (where
-  // coincidences the faces agree on become near-coincidences they may not).
+  // 25 of 40 configurations without it; all do with it, from their traced edges. The hull moves by
+  // as little. Only a retry: on data the plain contours close, perturbed ones need more gaps filled
+  // (where coincidences the faces agree on become near-coincidences they may not).
   double contour_perturbation_px = 1e-3;
   // Threads for the contours, the cone planes' indexes, the cone faces and the faces'
   // polygons (0 = every core); the mesh is built in plane order and is the same for any count.
