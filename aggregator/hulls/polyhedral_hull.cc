@@ -203,6 +203,24 @@ HullAssembly TracedHull(const std::vector<CameraModel>& cameras, const ConePlane
   return assembly;
 }
 
+// The hull from the contours perturbed by options.contour_perturbation_px: traced edges first
+// (where `trace`), then face by face; `closed` false where neither closes.
+HullAssembly PerturbedHull(const std::vector<CameraModel>& cameras,
+                           const std::vector<SilhouetteContours>& contours, const WorldBox& bounds,
+                           const PolyhedralHullOptions& options, bool trace) {
+  const ConePlaneSet perturbed(cameras, contours, bounds, options.contour_perturbation_px,
+                               options.threads);
+  HullAssembly assembly;
+  if (trace) assembly = TracedHull(cameras, perturbed, bounds, options);
+  std::vector<FaceRegion> regions;
+  std::string reason;
+  if (!assembly.closed &&
+      ComputeFaceRegions(cameras, perturbed, bounds, options.threads, &regions, &reason))
+    assembly = AssembleHull(perturbed, regions, bounds, options, false);
+  assembly.result.stats.contours_perturbed = assembly.closed;
+  return assembly;
+}
+
 // `result` with success set: a non-empty closed mesh.
 PolyhedralHullResult Finished(PolyhedralHullResult result) {
   if (result.mesh.triangles.empty()) {
@@ -269,25 +287,8 @@ PolyhedralHullResult ComputePolyhedralHull(const std::vector<CameraModel>& camer
     HullAssembly assembly = AssembleHull(set, regions, bounds, options, false);
     if (assembly.closed) return Finished(std::move(assembly.result));
     if (options.contour_perturbation_px > 0) {
-      const ConePlaneSet perturbed(cameras, contours, bounds, options.contour_perturbation_px,
-                                   options.threads);
-      if (trace) {
-        assembly = TracedHull(cameras, perturbed, bounds, options);
-        if (assembly.closed) {
-          assembly.result.stats.contours_perturbed = true;
-          return Finished(std::move(assembly.result));
-        }
-      }
-      std::vector<FaceRegion> perturbed_regions;
-      std::string reason;
-      if (ComputeFaceRegions(cameras, perturbed, bounds, options.threads, &perturbed_regions,
-                             &reason)) {
-        assembly = AssembleHull(perturbed, perturbed_regions, bounds, options, false);
-        if (assembly.closed) {
-          assembly.result.stats.contours_perturbed = true;
-          return Finished(std::move(assembly.result));
-        }
-      }
+      HullAssembly perturbed = PerturbedHull(cameras, contours, bounds, options, trace);
+      if (perturbed.closed) return Finished(std::move(perturbed.result));
     }
   }
   return Finished(AssembleHull(set, regions, bounds, options, true).result);

@@ -12,11 +12,11 @@
 // without extra points, and the assembled mesh is checked to be closed and manifold. Where
 // that fails, the hull is traced again from slightly perturbed contours (the exact
 // coincidences of symmetric rigs), then computed face by face from them, and where that fails
-// too, assembled from the plain faces' sweeps' trapezoids, whose cuts on an edge both faces of the
-// edge share (4-5 times the triangles). Where faces decide a near-degenerate configuration
-// differently, the gap they leave is filled in the cone plane its outline lies on
-// (in_plane_gap_filler.h); a mesh that is still not closed is reported as a failure, and callers
-// fall back to the voxel hull.
+// too, assembled from the plain faces' sweeps' trapezoids, whose cuts on an edge both faces
+// of the edge share (4-5 times the triangles). Where faces decide a near-degenerate
+// configuration differently, the gap they leave is filled in the cone plane its outline lies
+// on (in_plane_gap_filler.h); a mesh that is still not closed is reported as a failure, and
+// callers fall back to the voxel hull.
 //
 // Distortion is removed from contour points before building the cones (contour edges become
 // straight in the undistorted image).
@@ -44,8 +44,8 @@ struct PolyhedralHullStats {
   // mesh vertices), not as polygons of the hull's own vertices: a near-degenerate face made
   // the faster assembly fail.
   bool faces_with_cuts = false;
-  // The faces of the plain contours did not close; these are from the perturbed ones
-  // (PolyhedralHullOptions::contour_perturbation_px).
+  // The hull of the plain contours did not close; this one is from the perturbed ones
+  // (PolyhedralHullOptions::contour_perturbation_px), traced or face by face.
   bool contours_perturbed = false;
   // Gaps between faces that decided a near-degenerate configuration differently, filled in
   // the cone plane their outline lies on (in_plane_gap_filler.h): how many, their area (square
@@ -105,9 +105,10 @@ struct PolyhedralHullOptions {
   // pseudo-random offsets up to this (pixels per coordinate; 0: not tried), before the
   // assembly with the cuts: that breaks the exact coincidences of symmetric rigs
   // (ConePlaneSet). Exactly symmetric rings of 6-24 cameras around a sphere did not close in
-  // 25 of 40 configurations without it; all do with it, from their traced edges. The hull moves by
-  // as little. Only a retry: on data the plain contours close, perturbed ones need more gaps filled
-  // (where coincidences the faces agree on become near-coincidences they may not).
+  // 25 of 40 configurations without it; all do with it, from their traced edges. The hull
+  // moves by as little. Only a retry: on data the plain contours close, perturbed ones need
+  // more gaps filled (where coincidences the faces agree on become near-coincidences they may
+  // not).
   double contour_perturbation_px = 1e-3;
   // Threads for the contours, the cone planes' indexes, the cone faces and the faces'
   // polygons (0 = every core); the mesh is built in plane order and is the same for any count.

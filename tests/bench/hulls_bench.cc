@@ -143,8 +143,9 @@ BENCHMARK(BM_PolyhedralHull8ViewsCovering)->Unit(benchmark::kMillisecond);
 // An exactly symmetric ring (arg: cameras, evenly spaced on a 1.5 m circle, all aimed at
 // a 0.2 m sphere, 320x240, principal points at the image centres): every mask is the same
 // raster disc, so cone faces of several views meet at single points, where the traced edges
-// do not close and the face-by-face sweeps (plain, then from perturbed contours) take over
-// (counters: whether the hull came from perturbed contours, gaps filled, traced or swept).
+// do not close and the plain face-by-face sweeps, then the perturbed contours' traced edges
+// take over (counters: whether the hull came from perturbed contours, gaps filled, traced or
+// swept).
 void BM_PolyhedralHullSymmetricRing(benchmark::State& state) {
   constexpr double kFocalPx = 300, kDistance = 1.5, kRadius = 0.2;
   const int count = static_cast<int>(state.range(0));
