@@ -1,6 +1,7 @@
 #include "shared/silhouette/silhouette_contour.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
@@ -12,6 +13,22 @@
 namespace silnet {
 namespace {
 
+// How far a ring point moves (see OffsetToBoundary) where `tangent` runs from the point before
+// it to the one after it, or, at the end of a one pixel wide line (`end`), from the one before
+// to itself.
+cv::Point2f BoundaryShift(cv::Point2f tangent, bool end, double side, float offset,
+                          bool ends_outward) {
+  const float length = std::hypot(tangent.x, tangent.y);
+  cv::Point2f normal(0, 0);
+  if (length > 0 && end && ends_outward) {
+    normal = tangent / length;
+  } else if (length > 0) {
+    normal = cv::Point2f(-tangent.y, tangent.x) * static_cast<float>(side / length);
+  }
+  const float step = offset / std::max(1.0f, std::abs(normal.x) + std::abs(normal.y));
+  return normal * step;
+}
+
 // Moves the points of a ring traced through boundary pixel centres onto the boundary: `offset`
 // lattice steps (half of one puts it on the pixel edges) along the normal towards the
 // background, `side` = +1 when the background lies to the right of the traced direction
@@ -19,27 +36,35 @@ namespace {
 // turns back) the point moves along the line, out of its end, if `ends_outward`, else across.
 std::vector<cv::Point2f> OffsetToBoundary(const std::vector<cv::Point>& ring, double side,
                                           float offset, bool ends_outward) {
+  // An 8-connected ring's tangents have coordinates in [-2, 2]: their shifts, computed once
+  // (the same arithmetic as for any other tangent, so the same result).
+  constexpr int kReach = 2, kSide = 2 * kReach + 1;
+  std::array<cv::Point2f, 2 * kSide * kSide> shifts;
+  for (int end = 0; end < 2; ++end) {
+    for (int dy = -kReach; dy <= kReach; ++dy) {
+      for (int dx = -kReach; dx <= kReach; ++dx) {
+        shifts[static_cast<size_t>((end * kSide + dy + kReach) * kSide + dx + kReach)] =
+            BoundaryShift(cv::Point2f(static_cast<float>(dx), static_cast<float>(dy)), end != 0,
+                          side, offset, ends_outward);
+      }
+    }
+  }
   const size_t n = ring.size();
   std::vector<cv::Point2f> out(n);
   for (size_t i = 0; i < n; ++i) {
-    const cv::Point& prev = ring[(i + n - 1) % n];
-    const cv::Point& next = ring[(i + 1) % n];
-    cv::Point2f tangent(static_cast<float>(next.x - prev.x), static_cast<float>(next.y - prev.y));
+    const cv::Point& prev = ring[i == 0 ? n - 1 : i - 1];
+    const cv::Point& next = ring[i + 1 == n ? 0 : i + 1];
+    cv::Point tangent = next - prev;
     const bool end = tangent.x == 0 && tangent.y == 0;
-    if (end) {
-      tangent = cv::Point2f(static_cast<float>(ring[i].x - prev.x),
-                            static_cast<float>(ring[i].y - prev.y));
-    }
-    const float length = std::hypot(tangent.x, tangent.y);
-    cv::Point2f normal(0, 0);
-    if (length > 0 && end && ends_outward) {
-      normal = tangent / length;
-    } else if (length > 0) {
-      normal = cv::Point2f(-tangent.y, tangent.x) * static_cast<float>(side / length);
-    }
-    const float step = offset / std::max(1.0f, std::abs(normal.x) + std::abs(normal.y));
-    out[i] =
-        cv::Point2f(static_cast<float>(ring[i].x), static_cast<float>(ring[i].y)) + normal * step;
+    if (end) tangent = ring[i] - prev;
+    const bool listed = std::abs(tangent.x) <= kReach && std::abs(tangent.y) <= kReach;
+    const cv::Point2f shift =
+        listed ? shifts[static_cast<size_t>(((end ? kSide : 0) + tangent.y + kReach) * kSide +
+                                            tangent.x + kReach)]
+               : BoundaryShift(
+                     cv::Point2f(static_cast<float>(tangent.x), static_cast<float>(tangent.y)), end,
+                     side, offset, ends_outward);
+    out[i] = cv::Point2f(static_cast<float>(ring[i].x), static_cast<float>(ring[i].y)) + shift;
   }
   return out;
 }
@@ -51,8 +76,10 @@ void SmoothRing(std::vector<cv::Point2f>& ring, int passes) {
   if (n < 3) return;
   std::vector<cv::Point2f> smoothed(n);
   for (int pass = 0; pass < passes; ++pass) {
-    for (size_t i = 0; i < n; ++i)
-      smoothed[i] = 0.25f * (ring[(i + n - 1) % n] + ring[(i + 1) % n]) + 0.5f * ring[i];
+    for (size_t i = 0; i < n; ++i) {
+      smoothed[i] =
+          0.25f * (ring[i == 0 ? n - 1 : i - 1] + ring[i + 1 == n ? 0 : i + 1]) + 0.5f * ring[i];
+    }
     ring.swap(smoothed);
   }
 }
@@ -145,7 +172,7 @@ SilhouetteContours ExtractContours(const cv::Mat& mask, const ContourOptions& op
     double traced = 0.0;  // twice the signed area, same convention as RingArea
     for (size_t k = 0; k < ring.size(); ++k) {
       const cv::Point& a = ring[k];
-      const cv::Point& b = ring[(k + 1) % ring.size()];
+      const cv::Point& b = ring[k + 1 == ring.size() ? 0 : k + 1];
       traced += static_cast<double>(a.x) * b.y - static_cast<double>(b.x) * a.y;
     }
     // For an outer ring the background is outside; for a hole, inside the traced ring.
