@@ -13,6 +13,14 @@
 namespace silnet {
 namespace {
 
+// The indexes before and after `i` on a closed ring of `n` points.
+size_t Before(size_t i, size_t n) {
+  return i == 0 ? n - 1 : i - 1;
+}
+size_t After(size_t i, size_t n) {
+  return i + 1 == n ? 0 : i + 1;
+}
+
 // How far a ring point moves (see OffsetToBoundary) where `tangent` runs from the point before
 // it to the one after it, or, at the end of a one pixel wide line (`end`), from the one before
 // to itself.
@@ -29,42 +37,63 @@ cv::Point2f BoundaryShift(cv::Point2f tangent, bool end, double side, float offs
   return normal * step;
 }
 
-// Moves the points of a ring traced through boundary pixel centres onto the boundary: `offset`
-// lattice steps (half of one puts it on the pixel edges) along the normal towards the
-// background, `side` = +1 when the background lies to the right of the traced direction
-// (pixel coordinates), -1 when to the left. At the end of a one pixel wide line (the ring
-// turns back) the point moves along the line, out of its end, if `ends_outward`, else across.
-std::vector<cv::Point2f> OffsetToBoundary(const std::vector<cv::Point>& ring, double side,
-                                          float offset, bool ends_outward) {
-  // An 8-connected ring's tangents have coordinates in [-2, 2]: their shifts, computed once
-  // (the same arithmetic as for any other tangent, so the same result).
-  constexpr int kReach = 2, kSide = 2 * kReach + 1;
-  std::array<cv::Point2f, 2 * kSide * kSide> shifts;
-  for (int end = 0; end < 2; ++end) {
-    for (int dy = -kReach; dy <= kReach; ++dy) {
-      for (int dx = -kReach; dx <= kReach; ++dx) {
-        shifts[static_cast<size_t>((end * kSide + dy + kReach) * kSide + dx + kReach)] =
-            BoundaryShift(cv::Point2f(static_cast<float>(dx), static_cast<float>(dy)), end != 0,
-                          side, offset, ends_outward);
+// BoundaryShift for one extraction's `offset` and `ends_outward`, read from a table for the
+// tangents an 8-connected ring has (coordinates in [-2, 2], side +1 or -1) and computed for
+// any other: the table holds BoundaryShift's own results, so both give the same bits.
+class BoundaryShifts {
+ public:
+  BoundaryShifts(float offset, bool ends_outward) : offset_(offset), ends_outward_(ends_outward) {
+    for (const double side : {-1.0, 1.0}) {
+      for (const bool end : {false, true}) {
+        for (int dy = -kReach; dy <= kReach; ++dy) {
+          for (int dx = -kReach; dx <= kReach; ++dx) {
+            table_[Slot(cv::Point(dx, dy), end, side)] =
+                BoundaryShift(cv::Point2f(static_cast<float>(dx), static_cast<float>(dy)), end,
+                              side, offset_, ends_outward_);
+          }
+        }
       }
     }
   }
+
+  cv::Point2f Shift(cv::Point tangent, bool end, double side) const {
+    const bool listed = std::abs(tangent.x) <= kReach && std::abs(tangent.y) <= kReach &&
+                        (side == 1.0 || side == -1.0);
+    if (listed) return table_[Slot(tangent, end, side)];
+    return BoundaryShift(cv::Point2f(static_cast<float>(tangent.x), static_cast<float>(tangent.y)),
+                         end, side, offset_, ends_outward_);
+  }
+
+ private:
+  static constexpr int kReach = 2, kWidth = 2 * kReach + 1;
+
+  static size_t Slot(cv::Point tangent, bool end, double side) {
+    const int page = (side > 0 ? 2 : 0) + (end ? 1 : 0);
+    return static_cast<size_t>((page * kWidth + tangent.y + kReach) * kWidth + tangent.x + kReach);
+  }
+
+  float offset_;
+  bool ends_outward_;
+  std::array<cv::Point2f, 4 * kWidth * kWidth> table_;
+};
+
+// Moves the points of a ring traced through boundary pixel centres onto the boundary by
+// `shifts` (`offset` lattice steps, half of one puts them on the pixel edges, along the normal
+// towards the background), `side` = +1 when the background lies to the right of the traced
+// direction (pixel coordinates), -1 when to the left. At the end of a one pixel wide line (the
+// ring turns back) the point moves along the line, out of its end, if the shifts' `ends_outward`,
+// else across.
+std::vector<cv::Point2f> OffsetToBoundary(const std::vector<cv::Point>& ring, double side,
+                                          const BoundaryShifts& shifts) {
   const size_t n = ring.size();
   std::vector<cv::Point2f> out(n);
   for (size_t i = 0; i < n; ++i) {
-    const cv::Point& prev = ring[i == 0 ? n - 1 : i - 1];
-    const cv::Point& next = ring[i + 1 == n ? 0 : i + 1];
-    cv::Point tangent = next - prev;
+    const cv::Point& prev = ring[Before(i, n)];
+    cv::Point tangent = ring[After(i, n)] - prev;
     const bool end = tangent.x == 0 && tangent.y == 0;
     if (end) tangent = ring[i] - prev;
-    const bool listed = std::abs(tangent.x) <= kReach && std::abs(tangent.y) <= kReach;
-    const cv::Point2f shift =
-        listed ? shifts[static_cast<size_t>(((end ? kSide : 0) + tangent.y + kReach) * kSide +
-                                            tangent.x + kReach)]
-               : BoundaryShift(
-                     cv::Point2f(static_cast<float>(tangent.x), static_cast<float>(tangent.y)), end,
-                     side, offset, ends_outward);
-    out[i] = cv::Point2f(static_cast<float>(ring[i].x), static_cast<float>(ring[i].y)) + shift;
+    out[i] = cv::Point2f(static_cast<float>(ring[i].x), static_cast<float>(ring[i].y)) +
+             shifts.Shift(tangent, end, side);
   }
   return out;
 }
@@ -77,8 +106,7 @@ void SmoothRing(std::vector<cv::Point2f>& ring, int passes) {
   std::vector<cv::Point2f> smoothed(n);
   for (int pass = 0; pass < passes; ++pass) {
     for (size_t i = 0; i < n; ++i) {
-      smoothed[i] =
-          0.25f * (ring[i == 0 ? n - 1 : i - 1] + ring[i + 1 == n ? 0 : i + 1]) + 0.5f * ring[i];
+      smoothed[i] = 0.25f * (ring[Before(i, n)] + ring[After(i, n)]) + 0.5f * ring[i];
     }
     ring.swap(smoothed);
   }
@@ -167,12 +195,15 @@ SilhouetteContours ExtractContours(const cv::Mat& mask, const ContourOptions& op
   const cv::Rect box = ForegroundBox(mask);
   if (box.area() == 0) return {};
   cv::findContours(mask(box), rings, hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_NONE, box.tl());
+  // The boundary moves, once for every ring of the mask.
+  const BoundaryShifts shifts(static_cast<float>(options.boundary_offset_px),
+                              options.cover_pixel_centres);
   // Orientation of the traced ring decides on which side the background is.
   auto to_boundary = [&](const std::vector<cv::Point>& ring, bool hole) {
     double traced = 0.0;  // twice the signed area, same convention as RingArea
     for (size_t k = 0; k < ring.size(); ++k) {
       const cv::Point& a = ring[k];
-      const cv::Point& b = ring[k + 1 == ring.size() ? 0 : k + 1];
+      const cv::Point& b = ring[After(k, ring.size())];
       traced += static_cast<double>(a.x) * b.y - static_cast<double>(b.x) * a.y;
     }
     // For an outer ring the background is outside; for a hole, inside the traced ring.
@@ -181,8 +212,7 @@ SilhouetteContours ExtractContours(const cv::Mat& mask, const ContourOptions& op
     // Smoothing pulls the points of narrow tips back onto (or inside) their pixel centres:
     // for the covering simplification a point moves only where it lands farther out.
     const bool cover = options.cover_pixel_centres;
-    std::vector<cv::Point2f> boundary =
-        OffsetToBoundary(ring, side, static_cast<float>(options.boundary_offset_px), cover);
+    std::vector<cv::Point2f> boundary = OffsetToBoundary(ring, side, shifts);
     if (!cover) {
       SmoothRing(boundary, options.smoothing_passes);
     } else if (options.smoothing_passes > 0) {
