@@ -20,11 +20,12 @@ Eigen::Vector3d SeenDirection(const std::vector<Eigen::Vector3d>& centres, const
   return v.squaredNorm() > 0.0 ? v : line.direction;
 }
 
-// The parameter where `line` meets cone plane `q` of view `other`; `along` is the plane
-// normal's dot product with the line's direction, non-zero.
-double PlaneCrossing(const ConePlaneSet& set, const std::vector<Eigen::Vector3d>& centres,
-                     const ConeLine& line, int other, int q, double along) {
-  return set.Normal(q).dot(centres[static_cast<size_t>(other)] - line.origin) / along;
+// The parameter where a line meets cone plane `q` of a view whose centre is `to_centre` from
+// the line's origin; `along` is the plane normal's dot product with the line's direction,
+// non-zero.
+double PlaneCrossing(const ConePlaneSet& set, const Eigen::Vector3d& to_centre, int q,
+                     double along) {
+  return set.Normal(q).dot(to_centre) / along;
 }
 
 // True if the point of `line` at `t` on cone plane `q` of view `other` lies on its face: the
@@ -56,10 +57,11 @@ void FindCrossings(const ConePlaneSet& set, const std::vector<Eigen::Vector3d>& 
   buffers->candidates.clear();
   buffers->crossings.clear();
   EpipolarCandidates(set, centres, line, other, range, buffers->candidates);
+  const Eigen::Vector3d to_centre = centres[static_cast<size_t>(other)] - line.origin;
   for (const int q : buffers->candidates) {
     const double along = set.Normal(q).dot(line.direction);
     if (along == 0.0) continue;
-    const double t = PlaneCrossing(set, centres, line, other, q, along);
+    const double t = PlaneCrossing(set, to_centre, q, along);
     if (t > range.lo && t < range.hi && OnFace(set, line, other, q, t))
       buffers->crossings.push_back({t, q, along > 0.0});
   }
@@ -188,10 +190,11 @@ LineStretch FirstExit(const ConePlaneSet& set, const std::vector<Eigen::Vector3d
     // order); a face offered twice changes nothing.
     double best = range.hi;
     int best_plane = -1;  // none yet in this view: the range's end excludes its parameter
+    const Eigen::Vector3d to_centre = centres[static_cast<size_t>(other)] - line.origin;
     for (const int q : buffers->candidates) {
       const double along = set.Normal(q).dot(line.direction);
       if (!(along < 0.0) || q == skip_plane) continue;
-      const double t = PlaneCrossing(set, centres, line, other, q, along);
+      const double t = PlaneCrossing(set, to_centre, q, along);
       const bool first = t < best || (t == best && best_plane >= 0 && q < best_plane);
       if (!(t > range.lo) || !first || !OnFace(set, line, other, q, t)) continue;
       best = t;

@@ -17,7 +17,9 @@ constexpr double kRowStepPx = 1.0;
 // Margin of the silhouettes' bounding octagons, pixels.
 constexpr double kOctagonMarginPx = 1.0;
 // Side of the cell index's cells, pixels, and the margin by which an edge's box is grown
-// before it is filed in them (far more than the rounding of a crossing's projection).
+// before it is filed in them (far more than the rounding of a crossing's projection). Row
+// height and cell side are read as constants where queries divide by them: a power of two
+// turns the division into an exact multiplication.
 constexpr double kCellPx = 8.0;
 constexpr double kCellMarginPx = 0.5;
 
@@ -121,10 +123,9 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
     }
     if (!view_planes_[v].empty()) {
       rows.y0 = y_min;
-      rows.step = kRowStepPx;
       const size_t count = static_cast<size_t>((y_max - y_min) / kRowStepPx) + 1;
       const auto row = [&](double y) {
-        return std::clamp(static_cast<size_t>((y - rows.y0) / rows.step), size_t{0}, count - 1);
+        return std::clamp(static_cast<size_t>((y - rows.y0) / kRowStepPx), size_t{0}, count - 1);
       };
       const auto row_span = [&](const ConePlane& plane) {
         return std::pair(row(std::min(plane.p.y(), plane.q.y())),
@@ -203,7 +204,6 @@ ConePlaneSet::CellIndex ConePlaneSet::BuildCellIndex(const std::vector<ConePlane
   Eigen::AlignedBox2d extent;
   for (int index : view_planes)
     extent.extend(planes[static_cast<size_t>(index)].p);
-  cells.size = kCellPx;
   cells.x0 = extent.min().x() - 2 * kCellMarginPx;
   cells.y0 = extent.min().y() - 2 * kCellMarginPx;
   cells.cols = static_cast<int>((extent.sizes().x() + 4 * kCellMarginPx) / kCellPx) + 1;
@@ -250,7 +250,7 @@ double ConePlaneSet::Angle(const PairIndex& pair, const Eigen::Vector3d& directi
 
 bool ConePlaneSet::Contains(int view, const Eigen::Vector2d& x) const {
   const RowIndex& rows = rows_[static_cast<size_t>(view)];
-  const double r = (x.y() - rows.y0) / rows.step;
+  const double r = (x.y() - rows.y0) / kRowStepPx;  // a constant: no division
   if (!(r >= 0) || r >= static_cast<double>(rows.Rows())) return false;
   const auto row = static_cast<size_t>(r);
   bool inside = false;
@@ -287,7 +287,7 @@ bool ConePlaneSet::EdgesNearSegment(int view, const Eigen::Vector2d& a, const Ei
   if (!(a.allFinite() && b.allFinite())) return false;
   // In cell units; the segment from the end with the smaller y.
   const Eigen::Vector2d origin(cells.x0, cells.y0);
-  Eigen::Vector2d u = (a - origin) / cells.size, w = (b - origin) / cells.size;
+  Eigen::Vector2d u = (a - origin) / kCellPx, w = (b - origin) / kCellPx;  // by a constant
   if (w.y() < u.y()) std::swap(u, w);
   if (w.y() < 0 || u.y() >= cells.rows) return true;
   // Where the segment is at height y; a horizontal one spans its ends' x at its height.

@@ -55,6 +55,9 @@ class ConePlaneSet {
   const Eigen::Vector3d& Normal(int index) const { return normals_[static_cast<size_t>(index)]; }
   // World direction of the ray through an undistorted pixel of `view`, at unit depth.
   Eigen::Vector3d Ray(int view, const Eigen::Vector2d& pixel) const;
+  // Ray(view, p) of plane `index`, computed once: the ray through its first contour point
+  // (the ray through its last, q, is that of the next plane, whose p it is).
+  const Eigen::Vector3d& RayThroughP(int index) const { return rays_[static_cast<size_t>(index)]; }
   // Eight half-planes (line . (x, y, 1) >= 0 inside) bounding `view`'s silhouette in
   // undistorted pixels with a margin of one pixel: its bounding octagon (axes and diagonals).
   const std::array<Eigen::Vector3d, 8>& BoundingOctagon(int view) const {
@@ -89,7 +92,7 @@ class ConePlaneSet {
   // The contour edges whose y-range meets each row, stored in the row so a point-in-silhouette
   // test reads one contiguous run: row r's edges are edges[starts[r], starts[r + 1]).
   struct RowIndex {
-    double y0 = 0, step = 1;
+    double y0 = 0;  // rows are kRowStepPx high (cone_plane_set.cc)
     std::vector<uint32_t> starts;
     std::vector<RowEdge> edges;
 
@@ -99,7 +102,7 @@ class ConePlaneSet {
   // planes[starts[i], starts[i + 1]) for i = r * cols + c; the grid covers the view's contour
   // points with a margin.
   struct CellIndex {
-    double x0 = 0, y0 = 0, size = 1;
+    double x0 = 0, y0 = 0;  // cells are kCellPx wide (cone_plane_set.cc)
     int cols = 0, rows = 0;
     std::vector<uint32_t> starts;
     std::vector<int> planes;

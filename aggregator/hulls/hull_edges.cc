@@ -22,7 +22,8 @@ void NarrowToFace(const ConePlaneSet& set, const Eigen::Vector3d& centre, int pl
                   LineStretch* range) {
   const ConePlane& face = set.Plane(plane);
   const Eigen::Vector3d& normal = set.Normal(plane);
-  const Eigen::Vector3d rp = set.Ray(face.view, face.p), rq = set.Ray(face.view, face.q);
+  const Eigen::Vector3d& rp = set.RayThroughP(plane);
+  const Eigen::Vector3d& rq = set.RayThroughP(face.next);
   const Eigen::Vector3d offset = origin - centre;
   // Inside the wedge: (rp x X) . n >= 0 and (X x rq) . n >= 0 for X = offset + t direction.
   const std::array<std::array<double, 2>, 2> bounds = {
@@ -79,7 +80,7 @@ class EdgeTracer {
   void AddViewingEdge(const ViewingEdge& edge) {
     const int previous = set_.Plane(edge.plane).prev;
     const Eigen::Vector3d& centre = centres_[static_cast<size_t>(edge.view)];
-    const Eigen::Vector3d direction = set_.Ray(edge.view, set_.Plane(edge.plane).p);
+    const Eigen::Vector3d& direction = set_.RayThroughP(edge.plane);
     const int from = End(previous, edge.plane, edge.near_plane, centre + edge.near * direction);
     const int to = End(previous, edge.plane, edge.far_plane, centre + edge.far * direction);
     if (from < 0 || to < 0) return;
@@ -171,30 +172,40 @@ class EdgeTracer {
   // along it and face each other; the others keep their order.
   void PutOffFacingPairs(std::vector<TraceTask>* tasks, std::vector<TraceTask>* put_off) const {
     put_off->clear();
-    struct Place {
-      uint64_t line = 0;
-      double along = 0;
-      bool forward = false;
-      size_t task = 0;
-    };
-    std::vector<Place> places(tasks->size());
+    // The tasks by line (one integer compare, the task's index breaking ties), then each line's
+    // run of several tasks by the position of their start along it.
+    std::vector<std::pair<uint64_t, size_t>> by_line(tasks->size());
     for (size_t t = 0; t < tasks->size(); ++t) {
       const TraceTask& task = (*tasks)[t];
-      places[t] = {static_cast<uint64_t>(task.a) << 32 | static_cast<uint32_t>(task.b),
-                   task.line.dot(graph_.vertices[static_cast<size_t>(task.from)].position),
-                   task.forward, t};
+      const uint64_t line = static_cast<uint64_t>(task.a) << 32 | static_cast<uint32_t>(task.b);
+      by_line[t] = {line, t};
     }
-    std::sort(places.begin(), places.end(), [](const Place& x, const Place& y) {
-      return x.line != y.line     ? x.line < y.line
-             : x.along != y.along ? x.along < y.along
-                                  : x.task < y.task;
-    });
+    std::sort(by_line.begin(), by_line.end());
+    struct Place {
+      double along = 0;
+      size_t task = 0;
+    };
+    std::vector<Place> run;
     std::vector<bool> later(tasks->size(), false);
-    for (size_t k = 1; k < places.size(); ++k) {
-      const Place& before = places[k - 1];
-      const Place& after = places[k];
-      if (before.line == after.line && before.forward && !after.forward && !later[before.task])
-        later[after.task] = true;
+    for (size_t begin = 0, end = 0; begin < by_line.size(); begin = end) {
+      const uint64_t line = by_line[begin].first;
+      for (end = begin + 1; end < by_line.size() && by_line[end].first == line;)
+        ++end;
+      if (end - begin < 2) continue;
+      run.clear();
+      for (size_t k = begin; k < end; ++k) {
+        const size_t t = by_line[k].second;
+        const TraceTask& task = (*tasks)[t];
+        run.push_back({task.line.dot(graph_.vertices[static_cast<size_t>(task.from)].position), t});
+      }
+      std::sort(run.begin(), run.end(), [](const Place& x, const Place& y) {
+        return x.along != y.along ? x.along < y.along : x.task < y.task;
+      });
+      for (size_t k = 1; k < run.size(); ++k) {
+        const size_t before = run[k - 1].task, after = run[k].task;
+        if ((*tasks)[before].forward && !(*tasks)[after].forward && !later[before])
+          later[after] = true;
+      }
     }
     size_t kept = 0;
     for (size_t t = 0; t < tasks->size(); ++t) {
@@ -251,8 +262,8 @@ PlaneTriple SortedPlanes(int a, int b, int c) {
 Eigen::Vector3d IntoFaceSide(const ConePlaneSet& set, int face, int bound) {
   const ConePlane& plane = set.Plane(face);
   const Eigen::Vector3d& normal = set.Normal(face);
-  if (bound == plane.prev) return normal.cross(set.Ray(plane.view, plane.p));
-  if (bound == plane.next) return set.Ray(plane.view, plane.q).cross(normal);
+  if (bound == plane.prev) return normal.cross(set.RayThroughP(face));
+  if (bound == plane.next) return set.RayThroughP(plane.next).cross(normal);
   const Eigen::Vector3d& g = set.Normal(bound);
   return g - g.dot(normal) / normal.squaredNorm() * normal;
 }

@@ -27,19 +27,18 @@ int CountLinks(const std::pair<int32_t, int32_t>* link, size_t size, int32_t ver
 }
 
 // True if following a -> b from the first link visits every link once and comes back: the
-// triangles around the vertex form one closed fan. `visited` is scratch.
-bool IsSingleFan(const std::pair<int32_t, int32_t>* link, size_t size, std::vector<char>& visited) {
-  visited.assign(size, 0);
+// triangles around the vertex form one closed fan. The walk takes the first link leaving each
+// vertex, so it is periodic; stopped at its first return, it has visited distinct links, and
+// it visited them all if it took as many steps as there are links.
+bool IsSingleFan(const std::pair<int32_t, int32_t>* link, size_t size) {
   size_t steps = 0;
   int32_t at = link[0].first;
   do {
     size_t k = 0;
     while (k < size && link[k].first != at)
       ++k;
-    if (k == size || visited[k]) return false;
-    visited[k] = 1;
+    if (k == size || ++steps > size) return false;
     at = link[k].second;
-    ++steps;
   } while (at != link[0].first);
   return steps == size;
 }
@@ -72,14 +71,13 @@ MeshCheck CheckClosedManifold(const TriangleMesh& mesh) {
   size_t undirected_edges = 0;
   long used_vertices = 0;
   std::vector<int32_t> neighbours;
-  std::vector<char> visited;
   for (size_t v = 0; v < mesh.vertices.size(); ++v) {
     const std::pair<int32_t, int32_t>* link = links.data() + offsets[v];
     const size_t size = offsets[v + 1] - offsets[v];
     if (size == 0) continue;
     ++used_vertices;
     // A single fan settles every edge at v: each neighbour is entered and left once.
-    if (IsSingleFan(link, size, visited)) {
+    if (IsSingleFan(link, size)) {
       for (size_t k = 0; k < size; ++k)
         undirected_edges += link[k].first > static_cast<int32_t>(v) ? 1 : 0;
       continue;

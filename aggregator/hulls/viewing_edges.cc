@@ -16,8 +16,7 @@ void RayEdges(const std::vector<Eigen::Vector3d>& centres, const ConePlaneSet& s
               const WorldBox& bounds, int plane, ConeLineBuffers* buffers,
               std::vector<ViewingEdge>* out) {
   const ConePlane& face = set.Plane(plane);
-  const ConeLine ray{face.view, centres[static_cast<size_t>(face.view)],
-                     set.Ray(face.view, face.p)};
+  const ConeLine ray{face.view, centres[static_cast<size_t>(face.view)], set.RayThroughP(plane)};
   const std::optional<LineStretch> range =
       ClipToBox(ray, bounds, {0.0, std::numeric_limits<double>::infinity()});
   if (!range) return;
