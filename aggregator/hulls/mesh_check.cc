@@ -28,8 +28,9 @@ int CountLinks(const std::pair<int32_t, int32_t>* link, size_t size, int32_t ver
 
 // True if following a -> b from the first link visits every link once and comes back: the
 // triangles around the vertex form one closed fan. The walk takes the first link leaving each
-// vertex, so it is periodic; stopped at its first return, it has visited distinct links, and
-// it visited them all if it took as many steps as there are links.
+// vertex, so its next step depends on the vertex alone: back at its start for the first time,
+// it has passed distinct vertices and so distinct links, all of them if it took as many steps
+// as there are links; a walk caught in a cycle away from the start is cut off after that many.
 bool IsSingleFan(const std::pair<int32_t, int32_t>* link, size_t size) {
   size_t steps = 0;
   int32_t at = link[0].first;
