@@ -124,6 +124,18 @@ TEST(MeshCheckTest, FindsOpenEdgesAndMisorientedTriangles) {
   EXPECT_GT(check.non_manifold_edges, 0u);
 }
 
+TEST(MeshCheckTest, EndsAFanWalkThatNeverReturns) {
+  // Around vertex 0 the links are 1 -> 2, 2 -> 3 and 3 -> 2: a walk from 1 circles between
+  // 2 and 3 for ever unless it is cut off.
+  TriangleMesh mesh;
+  mesh.vertices = {Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(1, 0, 0), Eigen::Vector3f(0, 1, 0),
+                   Eigen::Vector3f(0, 0, 1)};
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 2}};
+  const MeshCheck check = CheckClosedManifold(mesh);
+  EXPECT_FALSE(check.closed_manifold);
+  EXPECT_GE(check.non_manifold_vertices, 1u);
+}
+
 TEST(MeshCheckTest, FindsVerticesJoiningTwoSheets) {
   // Two tetrahedra sharing one vertex: every edge is fine, the shared vertex is not.
   TriangleMesh mesh;
