@@ -413,8 +413,8 @@ FaceRegion RegionOfFace(const std::vector<CameraModel>& cameras, const ConePlane
   const ConePlane& plane = set.Plane(plane_index);
   const CameraModel& camera = cameras[static_cast<size_t>(plane.view)];
   region.centre = camera.Center();
-  region.d_p = set.Ray(plane.view, plane.p);
-  region.d_q = set.Ray(plane.view, plane.q);
+  region.d_p = set.RayThroughP(plane_index);
+  region.d_q = set.RayThroughP(plane.next);
   double depth_min = std::numeric_limits<double>::infinity(), depth_max = 0;
   for (int k = 0; k < 8; ++k) {
     const double depth =

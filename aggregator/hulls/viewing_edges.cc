@@ -53,8 +53,7 @@ std::vector<ViewingEdge> ComputeViewingEdges(const std::vector<CameraModel>& cam
 
 Eigen::Vector3d ViewingEdgePoint(const std::vector<CameraModel>& cameras, const ConePlaneSet& set,
                                  const ViewingEdge& edge, double t) {
-  const ConePlane& face = set.Plane(edge.plane);
-  return cameras[static_cast<size_t>(edge.view)].Center() + t * set.Ray(edge.view, face.p);
+  return cameras[static_cast<size_t>(edge.view)].Center() + t * set.RayThroughP(edge.plane);
 }
 
 }  // namespace silnet::aggregator
