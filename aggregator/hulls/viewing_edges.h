@@ -19,10 +19,10 @@
 
 namespace silnet::aggregator {
 
-// One viewing edge: the points C + t * set.Ray(view, p) for t in [near, far], where C is the
-// view's camera centre and p the first point of cone plane `plane` (a contour vertex of
-// `view`). `near_plane` / `far_plane` are the other views' cone planes that bound it at each
-// end, or -1 where the bounds box does.
+// One viewing edge: the points C + t * set.RayThroughP(plane) for t in [near, far], where C
+// is the view's camera centre, along the ray through the first point of cone plane `plane` (a
+// contour vertex of `view`). `near_plane` / `far_plane` are the other views' cone planes that
+// bound it at each end, or -1 where the bounds box does.
 struct ViewingEdge {
   int plane = -1;
   int view = -1;
