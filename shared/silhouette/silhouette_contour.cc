@@ -6,6 +6,7 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "shared/silhouette/border_tracing.h"
 #include "shared/silhouette/covering_contour.h"
 #include "shared/silhouette/foreground_box.h"
 #include "shared/util/check.h"
@@ -190,11 +191,10 @@ SilhouetteContours ExtractContours(const cv::Mat& mask, const ContourOptions& op
   SILNET_CHECK_MSG(mask.type() == CV_8UC1, "silhouette masks are CV_8UC1, got " << mask.type());
   std::vector<std::vector<cv::Point>> rings;
   std::vector<cv::Vec4i> hierarchy;
-  // findContours treats non-zero pixels as foreground and leaves its input alone (OpenCV >=
-  // 3.2); only the foreground's box matters.
+  // Non-zero pixels are foreground; only the foreground's box matters.
   const cv::Rect box = ForegroundBox(mask);
   if (box.area() == 0) return {};
-  cv::findContours(mask(box), rings, hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_NONE, box.tl());
+  TraceBorders(mask, box, rings, hierarchy);
   // The boundary moves, once for every ring of the mask.
   const BoundaryShifts shifts(static_cast<float>(options.boundary_offset_px),
                               options.cover_pixel_centres);
