@@ -8,6 +8,7 @@
 
 #include "shared/silhouette/border_tracing.h"
 #include "shared/silhouette/covering_contour.h"
+#include "shared/silhouette/douglas_peucker.h"
 #include "shared/silhouette/foreground_box.h"
 #include "shared/util/check.h"
 
@@ -114,12 +115,8 @@ void SmoothRing(std::vector<cv::Point2f>& ring, int passes) {
 }
 
 std::vector<Eigen::Vector2f> Simplify(const std::vector<cv::Point2f>& ring, double tolerance) {
-  std::vector<cv::Point2f> simplified;
-  if (ring.size() >= 3) {
-    cv::approxPolyDP(ring, simplified, tolerance, true);
-  } else {
-    simplified = ring;
-  }
+  const std::vector<cv::Point2f> simplified =
+      ring.size() >= 3 ? SimplifyClosedRing(ring, tolerance) : ring;
   std::vector<Eigen::Vector2f> out;
   out.reserve(simplified.size());
   for (const cv::Point2f& p : simplified)
