@@ -1,7 +1,7 @@
 // Visual hull benchmarks: one frame of 8 views at 640x480 (simulated walking person), one
 // core: voxel carving at 1 cm and 2 cm, surface extraction, the exact polyhedral hull, and
 // sub-frame interpolation; the exact hull of an exactly symmetric ring and of the real
-// captures in the shared data folder.
+// captures in the shared data folder; contour tracing and simplification against OpenCV's.
 //   build/tests/bench/silnet_hulls_bench
 
 #include <benchmark/benchmark.h>
@@ -25,6 +25,8 @@
 #include "aggregator/hulls/viewing_edges.h"
 #include "aggregator/hulls/voxel_hull.h"
 #include "shared/geometry/camera_model.h"
+#include "shared/silhouette/border_tracing.h"
+#include "shared/silhouette/douglas_peucker.h"
 #include "shared/silhouette/foreground_box.h"
 #include "shared/silhouette/silhouette_contour.h"
 #include "sim/camera_network.h"
@@ -365,6 +367,98 @@ void BM_AlienForegroundBox(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_AlienForegroundBox)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// The masks of the contour benchmarks below: 0 the INRIA dancer's 8 views (largest component
+// kept, as the hull benchmark above), 1 the alien's cameras 0-7; nullptr without the data.
+const std::vector<cv::Mat>* ContourBenchMasks(int64_t which) {
+  static const std::unique_ptr<std::vector<cv::Mat>> dancer = [] {
+    const std::filesystem::path folder =
+        std::filesystem::path(SILNET_SHARED_DATA_DIR) / "inria-dancer-silhouettes";
+    if (!std::filesystem::exists(folder)) return std::unique_ptr<std::vector<cv::Mat>>();
+    auto masks = std::make_unique<std::vector<cv::Mat>>(LoadInriaDancer(folder).masks);
+    for (cv::Mat& mask : *masks)
+      mask = KeepLargestComponent(mask);
+    return masks;
+  }();
+  if (which == 0) return dancer.get();
+  const RealCapture* alien = Alien();
+  if (!alien) return nullptr;
+  static const std::vector<cv::Mat> alien8(alien->masks.begin(), alien->masks.begin() + 8);
+  return &alien8;
+}
+
+// Args: masks (as above), tracer (0 silnet's TraceBorders, 1 OpenCV's findContours; the same
+// rings): the borders inside each mask's foreground box, as contour extraction traces them.
+void BM_BorderTracing(benchmark::State& state) {
+  const std::vector<cv::Mat>* masks = ContourBenchMasks(state.range(0));
+  if (!masks) {
+    state.SkipWithError("no real data beside the project");
+    return;
+  }
+  std::vector<cv::Rect> boxes;
+  for (const cv::Mat& mask : *masks)
+    boxes.push_back(ForegroundBox(mask));
+  std::vector<std::vector<cv::Point>> rings;
+  std::vector<cv::Vec4i> hierarchy;
+  for (auto _ : state) {
+    for (size_t v = 0; v < boxes.size(); ++v) {
+      const cv::Mat& mask = (*masks)[v];
+      if (state.range(1) == 0) {
+        TraceBorders(mask, boxes[v], rings, hierarchy);
+      } else {
+        cv::findContours(mask(boxes[v]), rings, hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_NONE,
+                         boxes[v].tl());
+      }
+      benchmark::DoNotOptimize(rings.data());
+    }
+  }
+}
+BENCHMARK(BM_BorderTracing)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMicrosecond);
+
+// Args: masks, simplification (0 silnet's SimplifyClosedRing, 1 OpenCV's approxPolyDP; the
+// same points): the traced rings, smoothed once as the hull's contours are, simplified at the
+// hull's default tolerance.
+void BM_RingSimplification(benchmark::State& state) {
+  const std::vector<cv::Mat>* masks = ContourBenchMasks(state.range(0));
+  if (!masks) {
+    state.SkipWithError("no real data beside the project");
+    return;
+  }
+  std::vector<std::vector<cv::Point2f>> smoothed;
+  for (const cv::Mat& mask : *masks) {
+    std::vector<std::vector<cv::Point>> rings;
+    cv::findContours(mask, rings, cv::RETR_CCOMP, cv::CHAIN_APPROX_NONE);
+    for (const std::vector<cv::Point>& ring : rings) {
+      const size_t n = ring.size();
+      std::vector<cv::Point2f>& out = smoothed.emplace_back(n);
+      for (size_t i = 0; i < n; ++i) {
+        out[i] = 0.25f * (cv::Point2f(ring[(i + n - 1) % n]) + cv::Point2f(ring[(i + 1) % n])) +
+                 0.5f * cv::Point2f(ring[i]);
+      }
+    }
+  }
+  const double tolerance = PolyhedralHullOptions{}.contour_tolerance_px;
+  size_t points = 0;
+  std::vector<cv::Point2f> simplified;
+  for (auto _ : state) {
+    points = 0;
+    for (const std::vector<cv::Point2f>& ring : smoothed) {
+      if (state.range(1) == 0) {
+        simplified = SimplifyClosedRing(ring, tolerance);
+      } else {
+        cv::approxPolyDP(ring, simplified, tolerance, true);
+      }
+      points += simplified.size();
+    }
+    benchmark::DoNotOptimize(points);
+  }
+  size_t traced = 0;
+  for (const std::vector<cv::Point2f>& ring : smoothed)
+    traced += ring.size();
+  state.counters["ring_points"] = static_cast<double>(traced);
+  state.counters["kept_points"] = static_cast<double>(points);
+}
+BENCHMARK(BM_RingSimplification)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMicrosecond);
 
 void BM_InterpolateSilhouette640x480(benchmark::State& state) {
   const Frame& frame = TheFrame();
