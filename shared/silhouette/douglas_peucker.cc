@@ -60,25 +60,6 @@ struct Farthest {
   int index = -1;
 };
 
-#if defined(__SSE2__)
-// Per lane, the largest value met so far and its place (-1 before any positive one).
-struct LaneBest {
-  __m128d value = _mm_setzero_pd(), order = _mm_set1_pd(-1);
-
-  void Update(__m128d candidate, __m128d place) {
-    const __m128d larger = _mm_cmpgt_pd(candidate, value);
-    value = _mm_or_pd(_mm_and_pd(larger, candidate), _mm_andnot_pd(larger, value));
-    order = _mm_or_pd(_mm_and_pd(larger, place), _mm_andnot_pd(larger, order));
-  }
-  double Value(int lane) const {
-    return lane == 0 ? _mm_cvtsd_f64(value) : _mm_cvtsd_f64(_mm_unpackhi_pd(value, value));
-  }
-  double Order(int lane) const {
-    return lane == 0 ? _mm_cvtsd_f64(order) : _mm_cvtsd_f64(_mm_unpackhi_pd(order, order));
-  }
-};
-#endif
-
 template <class Measure>
 Farthest FirstLargest(const std::vector<cv::Point2f>& ring, int first, int n,
                       const Measure& measure) {
@@ -89,28 +70,25 @@ Farthest FirstLargest(const std::vector<cv::Point2f>& ring, int first, int n,
   auto scan = [&](int begin, int end) {  // ring indexes [begin, end), in order
     int k = begin;
 #if defined(__SSE2__)
-    // Two pairs of lanes, each keeping its first largest, so consecutive steps do not wait
-    // on each other; merged by value, then by the earlier place.
-    LaneBest even, odd;
+    // Each lane keeps its first largest; the lanes merged by value, then by the earlier place.
+    __m128d lane_best = _mm_setzero_pd(), lane_order = _mm_set1_pd(-1);
     __m128d orders = _mm_setr_pd(order, order + 1);
-    const __m128d two = _mm_set1_pd(2), four = _mm_set1_pd(4);
-    for (; k + 4 <= end; k += 4) {
-      even.Update(measure.Two(&ring[static_cast<size_t>(k)].x), orders);
-      odd.Update(measure.Two(&ring[static_cast<size_t>(k + 2)].x), _mm_add_pd(orders, two));
-      orders = _mm_add_pd(orders, four);
+    for (; k + 2 <= end; k += 2) {
+      const __m128d value = measure.Two(&ring[static_cast<size_t>(k)].x);
+      const __m128d larger = _mm_cmpgt_pd(value, lane_best);
+      lane_best = _mm_or_pd(_mm_and_pd(larger, value), _mm_andnot_pd(larger, lane_best));
+      lane_order = _mm_or_pd(_mm_and_pd(larger, orders), _mm_andnot_pd(larger, lane_order));
+      orders = _mm_add_pd(orders, _mm_set1_pd(2));
     }
-    if (k + 2 <= end) {
-      even.Update(measure.Two(&ring[static_cast<size_t>(k)].x), orders);
-      k += 2;
-    }
-    for (const LaneBest& lanes : {even, odd}) {
-      for (int lane = 0; lane < 2; ++lane) {
-        const double value = lanes.Value(lane), place = lanes.Order(lane);
-        if (value > best || (value == best && value > 0 && place < best_order)) {
-          best = value;
-          best_order = static_cast<int>(place);
-        }
-      }
+    const double v0 = _mm_cvtsd_f64(lane_best),
+                 v1 = _mm_cvtsd_f64(_mm_unpackhi_pd(lane_best, lane_best));
+    const double o0 = _mm_cvtsd_f64(lane_order),
+                 o1 = _mm_cvtsd_f64(_mm_unpackhi_pd(lane_order, lane_order));
+    const bool second = v1 > v0 || (v1 == v0 && o1 < o0);
+    const double lane_max = second ? v1 : v0;
+    if (lane_max > best) {
+      best = lane_max;
+      best_order = static_cast<int>(second ? o1 : o0);
     }
     order += k - begin;
 #endif

@@ -2,9 +2,9 @@
 // Douglas-Peucker simplification of a closed ring, point for point what cv::approxPolyDP
 // gives for closed float curves (OpenCV 4.x: three passes for a far pair of points, the split
 // recursion in its order, its final pass over nearly straight corners, the same double
-// arithmetic on float differences), with the distance scans two points at a time in two
-// independent lane pairs. Contour extraction keeps bit for bit the outlines it had with
-// OpenCV's; figures in docs/PERFORMANCE.md.
+// arithmetic on float differences), with the distance scans two points at a time. Contour
+// extraction keeps bit for bit the outlines it had with OpenCV's; figures in
+// docs/PERFORMANCE.md.
 
 #include <opencv2/core.hpp>
 #include <vector>
