@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <opencv2/imgproc.hpp>
 
 #include "shared/silhouette/border_tracing.h"
 #include "shared/silhouette/covering_contour.h"
