@@ -69,6 +69,44 @@ Eigen::Vector2d Perturbation(size_t view, size_t index, double amplitude) {
 
 }  // namespace
 
+void SortArcs(std::vector<EdgeArc>& arcs, std::vector<EdgeArc>& buffer) {
+  const auto before = [](const EdgeArc& x, const EdgeArc& y) {
+    return x.lo != y.lo ? x.lo < y.lo : x.plane < y.plane;
+  };
+  const auto at = [](std::vector<EdgeArc>& v, size_t k) {
+    return v.begin() + static_cast<long>(k);
+  };
+  // Run ends: each run ascending (a strictly descending one reversed in place).
+  std::vector<size_t> ends;
+  for (size_t begin = 0; begin < arcs.size();) {
+    size_t end = begin + 1;
+    if (end < arcs.size() && before(arcs[end], arcs[end - 1])) {
+      while (end < arcs.size() && before(arcs[end], arcs[end - 1]))
+        ++end;
+      std::reverse(at(arcs, begin), at(arcs, end));
+    } else {
+      while (end < arcs.size() && !before(arcs[end], arcs[end - 1]))
+        ++end;
+    }
+    ends.push_back(end);
+    begin = end;
+  }
+  // Neighbouring runs merged pairwise until one is left.
+  buffer.resize(arcs.size());
+  while (ends.size() > 1) {
+    size_t begin = 0, kept = 0;
+    for (size_t r = 0; r < ends.size(); r += 2) {
+      const size_t middle = ends[r], end = r + 1 < ends.size() ? ends[r + 1] : middle;
+      std::merge(at(arcs, begin), at(arcs, middle), at(arcs, middle), at(arcs, end),
+                 at(buffer, begin), before);
+      ends[kept++] = end;
+      begin = end;
+    }
+    ends.resize(kept);
+    arcs.swap(buffer);
+  }
+}
+
 ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
                            const std::vector<SilhouetteContours>& contours, const WorldBox& bounds,
                            double perturbation_px, int threads) {
@@ -166,6 +204,8 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
   pairs_.resize(views * views);
   const Eigen::Vector3d centre = bounds.center();
   ParallelFor(views, threads, [&](size_t i) {
+    std::vector<double> angles(planes_.size());  // per plane of view j: its ray's angle
+    std::vector<EdgeArc> merge_buffer;
     for (size_t j = 0; j < views; ++j) {
       if (i == j) continue;
       PairIndex& pair = pairs_[i * views + j];
@@ -176,17 +216,18 @@ ConePlaneSet::ConePlaneSet(const std::vector<CameraModel>& cameras,
       pair.u1 = toward.normalized();
       pair.u2 = b.cross(pair.u1);
       pair.arcs.reserve(view_planes_[j].size());
+      for (int index : view_planes_[j])
+        angles[static_cast<size_t>(index)] = Angle(pair, rays_[static_cast<size_t>(index)]);
       for (int index : view_planes_[j]) {
-        const double a = Angle(pair, rays_[static_cast<size_t>(index)]);
-        const double c = Angle(pair, rays_[static_cast<size_t>(Plane(index).next)]);
+        const double a = angles[static_cast<size_t>(index)];
+        const double c = angles[static_cast<size_t>(Plane(index).next)];
         if (std::abs(a - c) > kWidestArc) {
           pair.wide.push_back(index);
           continue;
         }
         pair.arcs.push_back({std::min(a, c), std::max(a, c), index});
       }
-      std::sort(pair.arcs.begin(), pair.arcs.end(),
-                [](const EdgeArc& x, const EdgeArc& y) { return x.lo < y.lo; });
+      SortArcs(pair.arcs, merge_buffer);
       pair.reach.resize(pair.arcs.size());
       double reach = -std::numeric_limits<double>::infinity();
       for (size_t k = 0; k < pair.arcs.size(); ++k) {

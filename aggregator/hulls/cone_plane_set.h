@@ -31,6 +31,10 @@ struct EdgeArc {
   int plane = -1;
 };
 
+// Sorts `arcs` by lo, then plane, merging the ascending and descending runs they come in (few
+// where they follow a contour); `buffer` is scratch room, kept by the caller between calls.
+void SortArcs(std::vector<EdgeArc>& arcs, std::vector<EdgeArc>& buffer);
+
 // Every camera's cone planes and their indexes.
 class ConePlaneSet {
  public:
@@ -80,7 +84,7 @@ class ConePlaneSet {
  private:
   struct PairIndex {
     Eigen::Vector3d u1, u2;     // basis of the plane normal to the baseline
-    std::vector<EdgeArc> arcs;  // sorted by lo
+    std::vector<EdgeArc> arcs;  // sorted by lo, then plane
     std::vector<double> reach;  // per arc: the largest hi of the arcs up to it (non-decreasing)
     std::vector<int> wide;      // planes whose range could not be bounded
   };

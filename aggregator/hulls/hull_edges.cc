@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <utility>
 
@@ -172,15 +173,28 @@ class EdgeTracer {
   // along it and face each other; the others keep their order.
   void PutOffFacingPairs(std::vector<TraceTask>* tasks, std::vector<TraceTask>* put_off) const {
     put_off->clear();
-    // The tasks by line (one integer compare, the task's index breaking ties), then each line's
-    // run of several tasks by the position of their start along it.
-    std::vector<std::pair<uint64_t, size_t>> by_line(tasks->size());
-    for (size_t t = 0; t < tasks->size(); ++t) {
-      const TraceTask& task = (*tasks)[t];
-      const uint64_t line = static_cast<uint64_t>(task.a) << 32 | static_cast<uint32_t>(task.b);
-      by_line[t] = {line, t};
+    // The tasks by line: counted out by their first plane (in task order), then each plane's
+    // few tasks ordered by their second. Only the runs of one line matter, not their order.
+    const size_t planes = set_.Planes().size();
+    std::vector<uint32_t> first(planes + 1, 0);
+    for (const TraceTask& task : *tasks)
+      ++first[static_cast<size_t>(task.a) + 1];
+    std::partial_sum(first.begin(), first.end(), first.begin());
+    std::vector<uint32_t> by_line(tasks->size());
+    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+    for (size_t t = 0; t < tasks->size(); ++t)
+      by_line[fill[static_cast<size_t>((*tasks)[t].a)]++] = static_cast<uint32_t>(t);
+    const auto second_plane = [&](uint32_t x, uint32_t y) {
+      const int bx = (*tasks)[x].b, by = (*tasks)[y].b;
+      return bx != by ? bx < by : x < y;
+    };
+    for (size_t a = 0; a < planes; ++a) {
+      if (first[a + 1] - first[a] > 1)
+        std::sort(by_line.begin() + first[a], by_line.begin() + first[a + 1], second_plane);
     }
-    std::sort(by_line.begin(), by_line.end());
+    const auto same_line = [&](uint32_t x, uint32_t y) {
+      return (*tasks)[x].a == (*tasks)[y].a && (*tasks)[x].b == (*tasks)[y].b;
+    };
     struct Place {
       double along = 0;
       size_t task = 0;
@@ -188,13 +202,12 @@ class EdgeTracer {
     std::vector<Place> run;
     std::vector<bool> later(tasks->size(), false);
     for (size_t begin = 0, end = 0; begin < by_line.size(); begin = end) {
-      const uint64_t line = by_line[begin].first;
-      for (end = begin + 1; end < by_line.size() && by_line[end].first == line;)
+      for (end = begin + 1; end < by_line.size() && same_line(by_line[begin], by_line[end]);)
         ++end;
       if (end - begin < 2) continue;
       run.clear();
       for (size_t k = begin; k < end; ++k) {
-        const size_t t = by_line[k].second;
+        const size_t t = by_line[k];
         const TraceTask& task = (*tasks)[t];
         run.push_back({task.line.dot(graph_.vertices[static_cast<size_t>(task.from)].position), t});
       }

@@ -1,7 +1,7 @@
 // The cone plane set's cell index (aggregator/hulls/cone_plane_set.h): for image segments of
 // every length and direction around the sphere ring's silhouettes, EdgesNearSegment offers
 // every contour edge the segment meets, or declines a segment spanning more cells
-// than allowed without touching the output.
+// than allowed without touching the output. The pair index's arcs sort as std::sort would.
 
 #include "aggregator/hulls/cone_plane_set.h"
 
@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
 #include <set>
 
@@ -79,6 +80,45 @@ TEST(ConePlaneSetTest, EdgesNearSegmentOffersEveryEdgeTheSegmentMeets) {
   // The trials reach both outcomes and many edges.
   EXPECT_GT(met, 1000u) << met;
   EXPECT_GT(declined, 100u) << declined;
+}
+
+// SortArcs gives std::sort's order by (lo, plane) on arcs that come in runs as along a contour
+// (rising, falling, flat stretches, repeated angles where two edges share a turning point) and
+// on shuffled ones, with the buffer kept from call to call.
+TEST(ConePlaneSetTest, SortArcsOrdersByAngleThenPlane) {
+  std::mt19937 random(11);
+  std::vector<EdgeArc> buffer;
+  for (int trial = 0; trial < 500; ++trial) {
+    const int count = std::uniform_int_distribution<int>(0, 300)(random);
+    // Planes are distinct, as in a pair index, but not in the arcs' order.
+    std::vector<int> planes(static_cast<size_t>(count));
+    std::iota(planes.begin(), planes.end(), 0);
+    std::shuffle(planes.begin(), planes.end(), random);
+    std::vector<EdgeArc> arcs;
+    double angle = std::uniform_real_distribution<double>(-2, 2)(random);
+    double step = 0.01;
+    for (int k = 0; k < count; ++k) {
+      const int turn = std::uniform_int_distribution<int>(0, 19)(random);
+      if (turn == 0) step = -step;  // a turning point of the contour
+      if (turn == 1) step = 0;      // a flat stretch: equal angles
+      if (turn == 2) step = trial % 2 ? 0.01 : -0.01;
+      angle += step * std::uniform_real_distribution<double>(0.5, 1.5)(random);
+      const double other = angle + std::uniform_real_distribution<double>(0, 0.02)(random);
+      arcs.push_back({angle, other, planes[static_cast<size_t>(k)]});
+    }
+    if (trial % 5 == 0) std::shuffle(arcs.begin(), arcs.end(), random);
+    std::vector<EdgeArc> expected = arcs;
+    std::sort(expected.begin(), expected.end(), [](const EdgeArc& x, const EdgeArc& y) {
+      return x.lo != y.lo ? x.lo < y.lo : x.plane < y.plane;
+    });
+    SortArcs(arcs, buffer);
+    ASSERT_EQ(arcs.size(), expected.size());
+    for (size_t k = 0; k < arcs.size(); ++k) {
+      ASSERT_EQ(arcs[k].lo, expected[k].lo) << "trial " << trial << " arc " << k;
+      ASSERT_EQ(arcs[k].hi, expected[k].hi) << "trial " << trial << " arc " << k;
+      ASSERT_EQ(arcs[k].plane, expected[k].plane) << "trial " << trial << " arc " << k;
+    }
+  }
 }
 
 }  // namespace
